@@ -1,0 +1,156 @@
+#pragma once
+/// \file spring_set.hpp
+/// The springs of a cloth, generated from the grid topology, stored as structure-of-arrays.
+///
+/// Springs are stored in *colours*: contiguous ranges in which no two springs share a node, so a
+/// colour's springs can be processed by several threads without write races and with the same
+/// summation order per node whatever the thread count (docs/conventions.md, "Determinism").
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "drape/core/grid.hpp"
+#include "drape/core/validation.hpp"
+
+namespace drape {
+
+enum class SpringCategory : std::uint8_t {
+  Structural = 0,  ///< neighbours along rows and columns, rest length h
+  Shear = 1,       ///< both diagonals of every cell, rest length h*sqrt(2)
+  Bend = 2,        ///< nodes two apart along rows and columns, rest length 2h
+};
+inline constexpr int spring_category_count = 3;
+
+inline const char* to_string(SpringCategory c) {
+  switch (c) {
+    case SpringCategory::Structural: return "structural";
+    case SpringCategory::Shear: return "shear";
+    case SpringCategory::Bend: return "bend";
+  }
+  return "unknown";
+}
+
+/// Stiffness ks (N/m) and damping kd (N s/m) of one spring category.
+template <class Scalar = double>
+struct SpringParams {
+  Scalar stiffness;
+  Scalar damping;
+};
+
+/// One `SpringParams` per category.
+template <class Scalar = double>
+struct SpringCoefficients {
+  SpringParams<Scalar> structural;
+  SpringParams<Scalar> shear;
+  SpringParams<Scalar> bend;
+
+  const SpringParams<Scalar>& operator[](SpringCategory c) const {
+    return c == SpringCategory::Structural ? structural : c == SpringCategory::Shear ? shear : bend;
+  }
+  /// \throws std::invalid_argument naming e.g. `shear.stiffness` if a value is negative or not finite.
+  void validate() const {
+    detail::require_nonnegative_finite("structural.stiffness", structural.stiffness);
+    detail::require_nonnegative_finite("structural.damping", structural.damping);
+    detail::require_nonnegative_finite("shear.stiffness", shear.stiffness);
+    detail::require_nonnegative_finite("shear.damping", shear.damping);
+    detail::require_nonnegative_finite("bend.stiffness", bend.stiffness);
+    detail::require_nonnegative_finite("bend.damping", bend.damping);
+  }
+};
+
+template <class Scalar = double>
+class SpringSet {
+ public:
+  /// Structural, shear and bend springs of `grid`; rest lengths from the undeformed grid.
+  /// \throws std::invalid_argument if a coefficient is negative or not finite.
+  SpringSet(const Grid<Scalar>& grid, const SpringCoefficients<Scalar>& coefficients);
+
+  int size() const { return static_cast<int>(m_a.size()); }
+  int count(SpringCategory c) const { return m_category_count[static_cast<int>(c)]; }
+
+  // Per-spring data, index s in [0, size()). Spring s joins nodes a(s) -> b(s).
+  const std::vector<int>& a() const { return m_a; }
+  const std::vector<int>& b() const { return m_b; }
+  const std::vector<Scalar>& rest_length() const { return m_rest_length; }
+  const std::vector<Scalar>& stiffness() const { return m_stiffness; }
+  const std::vector<Scalar>& damping() const { return m_damping; }
+  const std::vector<SpringCategory>& category() const { return m_category; }
+
+  /// Colour c holds springs [colour_begin()[c], colour_begin()[c+1]); no two share a node.
+  const std::vector<int>& colour_begin() const { return m_colour_begin; }
+  int colour_count() const { return static_cast<int>(m_colour_begin.size()) - 1; }
+
+ private:
+  void add(int a, int b, SpringCategory c, const SpringParams<Scalar>& p, Scalar rest);
+
+  std::vector<int> m_a, m_b;
+  std::vector<Scalar> m_rest_length, m_stiffness, m_damping;
+  std::vector<SpringCategory> m_category;
+  std::vector<int> m_colour_begin;
+  std::array<int, spring_category_count> m_category_count{};
+};
+
+// ---------------------------------------------------------------------------------------------
+
+template <class Scalar>
+void SpringSet<Scalar>::add(int a, int b, SpringCategory c, const SpringParams<Scalar>& p, Scalar rest) {
+  m_a.push_back(a);
+  m_b.push_back(b);
+  m_rest_length.push_back(rest);
+  m_stiffness.push_back(p.stiffness);
+  m_damping.push_back(p.damping);
+  m_category.push_back(c);
+  ++m_category_count[static_cast<int>(c)];
+}
+
+template <class Scalar>
+SpringSet<Scalar>::SpringSet(const Grid<Scalar>& grid, const SpringCoefficients<Scalar>& k) {
+  k.validate();
+  const int nx = grid.nx(), ny = grid.ny();
+  const Scalar h = grid.spacing();
+  const Scalar diagonal = h * std::sqrt(Scalar(2));
+  using C = SpringCategory;
+
+  // A spring family is a fixed offset (di, dj) from its first node; within a family, springs whose
+  // key (i or j, divided by `stride`) has the same parity share no node. Each (family, parity) is
+  // one colour.
+  struct Family {
+    int di, dj, i0;  // second node = (i + di, j + dj); first node i starts at i0
+    bool key_is_i;   // colour key taken from i (else j)
+    int stride;      // key = coordinate / stride
+    C category;
+  };
+  const Family families[] = {
+      {1, 0, 0, true, 1, C::Structural},  {0, 1, 0, false, 1, C::Structural},
+      {1, 1, 0, true, 1, C::Shear},       {-1, 1, 1, true, 1, C::Shear},
+      {2, 0, 0, true, 2, C::Bend},        {0, 2, 0, false, 2, C::Bend},
+  };
+  const std::size_t expected = static_cast<std::size_t>(2 * (nx - 1) * ny + 2 * nx * (ny - 1) +
+                                                        2 * (nx - 1) * (ny - 1)) +
+                               static_cast<std::size_t>(std::max(0, nx - 2) * ny + nx * std::max(0, ny - 2));
+  m_a.reserve(expected);
+  m_b.reserve(expected);
+  m_rest_length.reserve(expected);
+  m_stiffness.reserve(expected);
+  m_damping.reserve(expected);
+  m_category.reserve(expected);
+
+  m_colour_begin.push_back(0);
+  for (const Family& f : families) {
+    const Scalar rest = f.category == C::Structural ? h : f.category == C::Shear ? diagonal : 2 * h;
+    for (int parity = 0; parity < 2; ++parity) {
+      for (int j = 0; j < ny; ++j) {
+        for (int i = f.i0; i < nx; ++i) {
+          if (!grid.contains(i + f.di, j + f.dj)) continue;
+          const int key = (f.key_is_i ? i : j) / f.stride;
+          if (key % 2 != parity) continue;
+          add(grid.node(i, j), grid.node(i + f.di, j + f.dj), f.category, k[f.category], rest);
+        }
+      }
+      if (size() != m_colour_begin.back()) m_colour_begin.push_back(size());
+    }
+  }
+}
+
+}  // namespace drape

@@ -1,0 +1,29 @@
+#pragma once
+/// \file fwd.hpp
+/// Forward declarations and the float/double aliases of drape's templates.
+
+namespace drape {
+
+template <class Scalar> class Grid;
+template <class Scalar> class SpringSet;
+template <class Scalar> struct State;
+template <class Scalar> struct ClothSpec;
+template <class Scalar> class Cloth;
+template <class Scalar> class ForceAssembler;
+template <class Scalar> class Rk2;
+class Pins;
+
+using Gridd = Grid<double>;
+using Gridf = Grid<float>;
+using SpringSetd = SpringSet<double>;
+using SpringSetf = SpringSet<float>;
+using Stated = State<double>;
+using Statef = State<float>;
+using ClothSpecd = ClothSpec<double>;
+using ClothSpecf = ClothSpec<float>;
+using Clothd = Cloth<double>;
+using Clothf = Cloth<float>;
+using Rk2d = Rk2<double>;
+using Rk2f = Rk2<float>;
+
+}  // namespace drape

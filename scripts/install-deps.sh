@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages drape needs, only those that are missing.
+#   scripts/install-deps.sh [test] [viewer] [bench] [fuzz]   (no argument: everything)
+set -euo pipefail
+
+core=(g++ cmake ninja-build pkg-config libeigen3-dev)
+test=(catch2 libsuitesparse-dev libopenblas-dev)
+viewer=(libosmesa6-dev libpng-dev libcli11-dev libtomlplusplus-dev libsuitesparse-dev libopenblas-dev)
+bench=(libbenchmark-dev libsuitesparse-dev libopenblas-dev python3 python3-matplotlib)
+fuzz=(clang libclang-rt-14-dev)
+
+groups=("$@")
+[ ${#groups[@]} -eq 0 ] && groups=(test viewer bench fuzz)
+wanted=("${core[@]}")
+for g in "${groups[@]}"; do
+  case "$g" in
+    test) wanted+=("${test[@]}") ;;
+    viewer) wanted+=("${viewer[@]}") ;;
+    bench) wanted+=("${bench[@]}") ;;
+    fuzz) wanted+=("${fuzz[@]}") ;;
+    *) echo "install-deps: unknown group '$g' (allowed: test viewer bench fuzz)" >&2; exit 2 ;;
+  esac
+done
+
+missing=()
+for p in "${wanted[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  sudo="sudo"
+fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

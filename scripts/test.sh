@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Builds drape in Release and runs every test. Installs missing Debian packages first.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh test viewer
+cmake --preset release -DDRAPE_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build --preset release
+ctest --preset release -j2
