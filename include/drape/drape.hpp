@@ -19,3 +19,5 @@
 #include "drape/integrators/rk2.hpp"
 #include "drape/io/atomic_file.hpp"
 #include "drape/io/obj.hpp"
+#include "drape/io/state_io.hpp"
+#include "drape/realtime/realtime_driver.hpp"
