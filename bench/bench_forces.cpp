@@ -1,0 +1,62 @@
+/// \file bench_forces.cpp
+/// Force assembly and the RK2 step at the default dt: drape (1 and 2 threads) against the textbook
+/// baseline (baseline.hpp).
+
+#include "baseline.hpp"
+#include "bench_common.hpp"
+#include "drape/physics/force_assembler.hpp"
+
+namespace drape_bench {
+namespace {
+
+void force_assembly_drape(benchmark::State& st) {
+  const Scene& sc = scene(int(st.range(0)));
+  const drape::ForceAssembler<double> forces(*sc.cloth, int(st.range(1)));
+  drape::Matrix3X<double> f(3, sc.cloth->node_count());
+  for (auto _ : st) {
+    forces.force(sc.warm.positions, sc.warm.velocities, f);
+    benchmark::DoNotOptimize(f.data());
+    benchmark::ClobberMemory();
+  }
+  st.counters["threads_used"] = forces.threads();
+  st.counters["nodes"] = double(sc.cloth->node_count());
+  st.SetItemsProcessed(st.iterations() * sc.cloth->springs().size());
+}
+
+void force_assembly_baseline(benchmark::State& st) {
+  const Scene& sc = scene(int(st.range(0)));
+  const std::vector<Spring> springs = baseline_springs(*sc.cloth);
+  for (auto _ : st) {
+    Matrix3X f = baseline_forces(*sc.cloth, springs, sc.warm.positions, sc.warm.velocities);
+    benchmark::DoNotOptimize(f.data());
+    benchmark::ClobberMemory();
+  }
+  st.counters["nodes"] = double(sc.cloth->node_count());
+  st.SetItemsProcessed(st.iterations() * sc.cloth->springs().size());
+}
+
+void rk2_step_drape(benchmark::State& st) {
+  const Scene& sc = scene(int(st.range(0)));
+  drape::Rk2<double> rk2(*sc.cloth, int(st.range(1)));
+  const double dt = drape::ClothSpec<double>::default_dt();
+  run_steps(st, sc, rk2_window, [&](drape::State<double>& s) { return rk2.step(s, dt); });
+  st.counters["threads_used"] = rk2.forces().threads();
+}
+
+void rk2_step_baseline(benchmark::State& st) {
+  const Scene& sc = scene(int(st.range(0)));
+  BaselineRk2 rk2(*sc.cloth);
+  const double dt = drape::ClothSpec<double>::default_dt();
+  run_steps(st, sc, rk2_window, [&](drape::State<double>& s) { return rk2.step(s, dt); });
+}
+
+const bool registered = [] {
+  sized(benchmark::RegisterBenchmark("force_assembly/impl=drape", force_assembly_drape), true, benchmark::kMicrosecond);
+  sized(benchmark::RegisterBenchmark("force_assembly/impl=baseline", force_assembly_baseline), false, benchmark::kMicrosecond);
+  sized(benchmark::RegisterBenchmark("rk2_step/impl=drape", rk2_step_drape), true, benchmark::kMicrosecond);
+  sized(benchmark::RegisterBenchmark("rk2_step/impl=baseline", rk2_step_baseline), false, benchmark::kMicrosecond);
+  return true;
+}();
+
+}  // namespace
+}  // namespace drape_bench
