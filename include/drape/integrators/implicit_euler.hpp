@@ -1,0 +1,140 @@
+#pragma once
+/// \file implicit_euler.hpp
+/// Linearised implicit (backward) Euler, Baraff & Witkin 1998, the brief's part (b):
+/// \f[ \Bigl(M - \Delta t \frac{\partial f}{\partial v} - \Delta t^2 \frac{\partial f}{\partial x}\Bigr) \Delta v
+///     = \Delta t \Bigl(f(x_t, v_t) + \Delta t \frac{\partial f}{\partial x} v_t\Bigr), \qquad
+///     v_{t+1} = v_t + \Delta v, \quad x_{t+1} = x_t + \Delta t\, v_{t+1}. \f]
+/// Pinned nodes keep \f$ \Delta v = 0 \f$ (eliminated from the system or filtered, see
+/// PinTreatment). The Jacobian variant and the linear solver are chosen at run time
+/// (ImplicitOptions); docs/implicit.md has the derivation and the measurements behind the defaults.
+///
+/// A step that fails (solver failure, matrix not positive definite, no convergence, non-finite
+/// result) returns the reason and leaves the state unchanged. After the first step, `step()`
+/// performs no heap allocation with the iterative solvers (tested).
+
+#include <memory>
+#include <string>
+
+#include "drape/core/cloth.hpp"
+#include "drape/core/validation.hpp"
+#include "drape/integrators/step_status.hpp"
+#include "drape/physics/jacobian_assembler.hpp"
+#include "drape/physics/spring_jacobian.hpp"
+#include "drape/solvers/solver_registry.hpp"
+
+namespace drape {
+
+struct ImplicitOptions {
+  /// Spd: symmetric positive definite system for any deformation; measured the fastest and the
+  /// most robust (docs/implicit.md, "Defaults").
+  JacobianVariant jacobian = JacobianVariant::Spd;
+  /// Linear solver by name, see available_solvers() and solvers/solver_registry.hpp.
+  std::string solver = "cg";
+  double tolerance = 1e-6;     ///< relative residual |b - A dv| / |b| for iterative solvers
+  int max_iterations = 2000;   ///< iteration cap of iterative solvers
+  int threads = 0;             ///< 0 = all available
+  PinTreatment pins = PinTreatment::Eliminate;
+
+  /// \throws std::invalid_argument naming the first invalid option (unknown solver, a solver this
+  /// build lacks, tolerance not in (0, 1), max_iterations < 1, threads < 0, Exact Jacobian with a
+  /// symmetric-only solver, filtered pins with a direct solver).
+  void validate() const;
+};
+
+template <class Scalar = double>
+class ImplicitEuler {
+ public:
+  /// \throws std::invalid_argument as ImplicitOptions::validate().
+  explicit ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options = {});
+
+  /// Advances `state` by `dt`; on failure `state` is unchanged and the status says why.
+  /// \throws std::invalid_argument if dt is not finite and > 0 or the state has the wrong size.
+  StepStatus step(State<Scalar>& state, Scalar dt);
+
+  const ImplicitOptions& options() const { return m_options; }
+  const Cloth<Scalar>& cloth() const { return m_assembler.cloth(); }
+  const JacobianAssembler<Scalar>& assembler() const { return m_assembler; }
+  /// The system of the last step: A, b and the solution dv (3 per system node, see
+  /// JacobianAssembler::node_of_row()).
+  const BlockSparseMatrix<Scalar>& system_matrix() const { return m_a; }
+  const VectorX<Scalar>& rhs() const { return m_rhs; }
+  const VectorX<Scalar>& dv() const { return m_dv; }
+  LinearSolver<Scalar>& solver() { return *m_solver; }
+
+ private:
+  ImplicitOptions m_options;
+  JacobianAssembler<Scalar> m_assembler;
+  std::unique_ptr<LinearSolver<Scalar>> m_solver;
+  BlockSparseMatrix<Scalar> m_a;
+  VectorX<Scalar> m_rhs, m_dv;
+  Matrix3X<Scalar> m_x_new, m_v_new;
+};
+
+// ---------------------------------------------------------------------------------------------
+
+inline void ImplicitOptions::validate() const {
+  detail::require_available_solver(solver);
+  if (!(std::isfinite(tolerance) && tolerance > 0 && tolerance < 1))
+    detail::fail_argument("tolerance", detail::to_text(tolerance), "finite, > 0 and < 1");
+  detail::require_at_least("max_iterations", max_iterations, 1);
+  detail::require_at_least("threads", threads, 0);
+  if (jacobian == JacobianVariant::Exact && solver_requires_symmetric(solver))
+    detail::fail_argument("solver", "'" + solver + "' with jacobian = exact",
+                          "a non-symmetric solver for the Exact Jacobian: bicgstab, lu or umfpack");
+  if (pins == PinTreatment::Filter && !solver_supports_filter(solver))
+    detail::fail_argument("pins", "filter with solver '" + solver + "'",
+                          "eliminate, or filter with an iterative solver (cg, bicgstab)");
+}
+
+template <class Scalar>
+ImplicitEuler<Scalar>::ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options)
+    : m_options((options.validate(), options)), m_assembler(cloth, options.pins, options.threads) {
+  IterativeSettings settings;
+  settings.tolerance = options.tolerance;
+  settings.max_iterations = options.max_iterations;
+  settings.threads = options.threads;
+  m_solver = make_linear_solver<Scalar>(options.solver, settings);
+  m_a = m_assembler.make_matrix();
+  m_rhs.setZero(m_a.size());
+  m_dv.setZero(m_a.size());
+  m_x_new.resize(3, cloth.node_count());
+  m_v_new.resize(3, cloth.node_count());
+  m_solver->analyze(m_a);  // symbolic work once per cloth
+}
+
+template <class Scalar>
+StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state, Scalar dt) {
+  detail::require_positive_finite("dt", dt);
+  const int n = cloth().node_count();
+  if (state.positions.cols() != n || state.velocities.cols() != n)
+    detail::fail_argument("state", detail::to_text(state.positions.cols()) + " nodes",
+                          detail::to_text(n) + " nodes (the cloth's)");
+  m_assembler.assemble_system(state.positions, state.velocities, dt, m_options.jacobian, m_a, m_rhs);
+  // m_dv still holds the previous step's solution: the warm start of iterative solvers.
+  const std::uint8_t* filter = m_options.pins == PinTreatment::Filter ? m_assembler.filter().data() : nullptr;
+  StepStatus status = m_solver->solve(m_a, m_rhs, m_dv, filter);
+  if (!status.ok() || !m_dv.allFinite()) {
+    m_dv.setZero();  // a failed solve is no warm start
+    if (status.ok()) status.error = StepError::NonFiniteState;
+    return status;
+  }
+  // v+ = v + dv on free nodes, 0 on pinned ones; x+ = x + dt v+ (pinned nodes stay put).
+  m_v_new = state.velocities;
+  const std::vector<int>& node_of_row = m_assembler.node_of_row();
+  for (std::size_t r = 0; r < node_of_row.size(); ++r)
+    m_v_new.col(node_of_row[r]) += m_dv.template segment<3>(3 * static_cast<Index>(r));
+  for (int p : cloth().pins().nodes()) m_v_new.col(p).setZero();
+  m_x_new = state.positions + dt * m_v_new;
+  for (int p : cloth().pins().nodes()) m_x_new.col(p) = state.positions.col(p);
+  if (!(m_x_new.allFinite() && m_v_new.allFinite())) {
+    m_dv.setZero();
+    status.error = StepError::NonFiniteState;
+    return status;
+  }
+  state.positions.swap(m_x_new);
+  state.velocities.swap(m_v_new);
+  state.time += dt;
+  return status;
+}
+
+}  // namespace drape

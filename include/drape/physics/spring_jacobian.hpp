@@ -1,0 +1,81 @@
+#pragma once
+/// \file spring_jacobian.hpp
+/// Per-spring 3x3 derivative blocks of the damped spring force (docs/implicit.md derives them).
+///
+/// With \f$ d = x_b - x_a \f$, \f$ L = |d| \f$, \f$ u = d/L \f$, \f$ P = I - u u^T \f$,
+/// \f$ w = v_b - v_a \f$ and \f$ f_a = \varphi u \f$, \f$ \varphi = k_s (L - l) + k_d\, w \cdot u \f$:
+/// \f[ K = \frac{\partial f_a}{\partial x_b}
+///       = k_s u u^T + k_s \Bigl(1 - \frac{l}{L}\Bigr) P
+///       + \frac{k_d}{L}\bigl(u\, (P w)^T + (w \cdot u) P\bigr), \qquad
+///     D = \frac{\partial f_a}{\partial v_b} = k_d\, u u^T. \f]
+/// Because \f$ f_a \f$ depends on \f$ x_b - x_a \f$ and \f$ f_b = -f_a \f$, the four global blocks are
+/// \f$ \partial f_a/\partial x_a = \partial f_b/\partial x_b = -K \f$ and
+/// \f$ \partial f_a/\partial x_b = \partial f_b/\partial x_a = +K \f$ (same for D).
+/// Variants of K: `Exact` keeps every term (non-symmetric because of \f$ u (P w)^T \f$);
+/// `Symmetric` drops the damping term (Baraff & Witkin); `Spd` also clamps the transverse factor
+/// to \f$ \max(0, 1 - l/L) \f$, so K is positive semi-definite and the implicit system matrix
+/// \f$ M - \Delta t\, \partial f/\partial v - \Delta t^2 \partial f/\partial x \f$ is symmetric positive definite.
+
+#include <algorithm>
+#include <cstdint>
+
+#include "drape/core/types.hpp"
+
+namespace drape {
+
+/// Which \f$ \partial f / \partial x \f$ the implicit integrator uses.
+enum class JacobianVariant : std::uint8_t {
+  Exact = 0,      ///< full derivative incl. the damping term's x-derivative (non-symmetric)
+  Symmetric = 1,  ///< Baraff-Witkin: damping term's x-derivative dropped (symmetric, may be indefinite)
+  Spd = 2,        ///< Symmetric with compressed springs' transverse stiffness clamped to >= 0
+};
+
+inline const char* to_string(JacobianVariant v) {
+  switch (v) {
+    case JacobianVariant::Exact: return "exact";
+    case JacobianVariant::Symmetric: return "symmetric";
+    case JacobianVariant::Spd: return "spd";
+  }
+  return "unknown";
+}
+
+/// Force on node a and the blocks \f$ K = \partial f_a / \partial x_b \f$,
+/// \f$ D = \partial f_a / \partial v_b \f$ of one spring (see the file comment).
+template <class Scalar>
+struct SpringDerivatives {
+  Vec3<Scalar> force;  ///< f_a (N)
+  Mat3<Scalar> dfdx;   ///< K (N/m)
+  Mat3<Scalar> dfdv;   ///< D (N s/m)
+};
+
+template <class Scalar>
+SpringDerivatives<Scalar> spring_derivatives(const Vec3<Scalar>& xa, const Vec3<Scalar>& xb, const Vec3<Scalar>& va,
+                                             const Vec3<Scalar>& vb, Scalar rest_length, Scalar stiffness,
+                                             Scalar damping, JacobianVariant variant) {
+  const Vec3<Scalar> d = xb - xa;
+  const Scalar length = d.norm();
+  const Scalar inv_length = Scalar(1) / length;
+  const Vec3<Scalar> u = d * inv_length;
+  const Vec3<Scalar> w = vb - va;
+  const Scalar wu = w.dot(u);
+  const Mat3<Scalar> uu = u * u.transpose();
+
+  SpringDerivatives<Scalar> out;
+  out.force = (stiffness * (length - rest_length) + damping * wu) * u;
+  // ks u u^T + ks t P = ks t I + ks (1 - t) u u^T with transverse factor t = 1 - l/L.
+  Scalar t = Scalar(1) - rest_length * inv_length;
+  if (variant == JacobianVariant::Spd) t = std::max(t, Scalar(0));
+  out.dfdx = (stiffness * (Scalar(1) - t)) * uu;
+  out.dfdx.diagonal().array() += stiffness * t;
+  if (variant == JacobianVariant::Exact) {
+    // (kd/L) (u (Pw)^T + (w.u) P) = (kd/L) (u w^T + (w.u) I - 2 (w.u) u u^T)
+    const Scalar c = damping * inv_length;
+    out.dfdx.noalias() += c * (u * w.transpose());
+    out.dfdx -= (Scalar(2) * c * wu) * uu;
+    out.dfdx.diagonal().array() += c * wu;
+  }
+  out.dfdv = damping * uu;
+  return out;
+}
+
+}  // namespace drape

@@ -1,0 +1,249 @@
+#pragma once
+/// \file pcg.hpp
+/// Preconditioned conjugate gradients with a 3x3 block-Jacobi preconditioner, warm-started from the
+/// caller's `x` (the previous step's dv), on the block-CSR system. Requires a symmetric positive
+/// definite matrix; reports `NotPositiveDefinite` when it meets a direction with p^T A p <= 0.
+///
+/// Threads: the whole solve runs in one parallel region; rows are split statically and every dot
+/// product is summed per thread over a fixed row range, then the per-thread partials are added in
+/// thread order. Results therefore depend on the thread count but never on scheduling.
+/// Pinned rows (the optional filter) are projected out: r, z, p and A p are zero on them
+/// (Baraff & Witkin's filter S).
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "drape/core/parallel.hpp"
+#include <Eigen/LU>  // 3x3 inverse
+
+#include "drape/solvers/linear_solver.hpp"
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
+namespace drape {
+
+template <class Scalar = double>
+class PcgSolver final : public LinearSolver<Scalar> {
+ public:
+  /// Block rows per thread below which a second thread is not woken.
+  static constexpr long long min_rows_per_thread = 3000;
+
+  explicit PcgSolver(const IterativeSettings& settings = {}) : m_settings(settings) {}
+
+  const char* name() const override { return "cg"; }
+  bool requires_symmetric() const override { return true; }
+  bool supports_filter() const override { return true; }
+  void analyze(const BlockSparseMatrix<Scalar>& a) override;
+  StepStatus solve(const BlockSparseMatrix<Scalar>& a, const VectorX<Scalar>& b, VectorX<Scalar>& x,
+                   const std::uint8_t* filter = nullptr) override;
+
+  const IterativeSettings& settings() const { return m_settings; }
+
+ private:
+  static constexpr int max_team = 64;
+  struct alignas(64) Partial {
+    double value[4];
+  };
+
+  IterativeSettings m_settings;
+  VectorX<Scalar> m_r, m_z, m_p, m_q, m_inv_diag;
+  std::array<Partial, max_team> m_partial{};
+};
+
+// ---------------------------------------------------------------------------------------------
+
+template <class Scalar>
+void PcgSolver<Scalar>::analyze(const BlockSparseMatrix<Scalar>& a) {
+  const Index n = a.size();
+  for (VectorX<Scalar>* v : {&m_r, &m_z, &m_p, &m_q}) v->setZero(n);
+  m_inv_diag.setZero(3 * n);
+}
+
+template <class Scalar>
+StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const VectorX<Scalar>& b, VectorX<Scalar>& x,
+                                    const std::uint8_t* filter) {
+  if (m_r.size() != a.size()) analyze(a);
+  const int rows = a.block_rows();
+  const int team = std::min(max_team, effective_threads(m_settings.threads, rows, min_rows_per_thread));
+  const int* rb = a.row_begin().data();
+  const int* col = a.column().data();
+  const int* diag = a.diagonal().data();
+  const Scalar* val = a.values();
+  Scalar* r = m_r.data();
+  Scalar* z = m_z.data();
+  Scalar* p = m_p.data();
+  Scalar* q = m_q.data();
+  Scalar* inv = m_inv_diag.data();
+  Scalar* xs = x.data();
+  const Scalar* bs = b.data();
+  const double tol = m_settings.tolerance;
+  const int max_it = m_settings.max_iterations;
+  std::array<Partial, max_team>& partial = m_partial;
+  StepStatus status;
+
+  // y_r = (A s)_r for one block row.
+  const auto row_product = [&](int row, const Scalar* s, Scalar& y0, Scalar& y1, Scalar& y2) {
+    y0 = y1 = y2 = 0;
+    for (int k = rb[row]; k < rb[row + 1]; ++k) {
+      const Scalar* m = val + 9 * k;
+      const Scalar* sc = s + 3 * col[k];
+      y0 += m[0] * sc[0] + m[3] * sc[1] + m[6] * sc[2];
+      y1 += m[1] * sc[0] + m[4] * sc[1] + m[7] * sc[2];
+      y2 += m[2] * sc[0] + m[5] * sc[1] + m[8] * sc[2];
+    }
+  };
+  // z_r = P^-1 r_r with the stored 3x3 inverse.
+  const auto precondition = [&](int row) {
+    const Scalar* m = inv + 9 * row;
+    const Scalar* rr = r + 3 * row;
+    z[3 * row] = m[0] * rr[0] + m[3] * rr[1] + m[6] * rr[2];
+    z[3 * row + 1] = m[1] * rr[0] + m[4] * rr[1] + m[7] * rr[2];
+    z[3 * row + 2] = m[2] * rr[0] + m[5] * rr[1] + m[8] * rr[2];
+  };
+  // Every thread adds the team's partials in thread order, so all agree on the same value.
+  const auto reduce = [&](int slot, int threads_in_team) {
+    double s = 0;
+    for (int t = 0; t < threads_in_team; ++t) s += partial[static_cast<std::size_t>(t)].value[slot];
+    return s;
+  };
+
+  const auto body = [&]() {
+#if defined(_OPENMP)
+    const int tid = omp_get_thread_num();
+    const int nt = omp_get_num_threads();
+#else
+    const int tid = 0, nt = 1;
+#endif
+    Partial& mine = partial[static_cast<std::size_t>(tid)];
+    mine.value[0] = mine.value[1] = mine.value[2] = mine.value[3] = 0;
+    bool bad_diagonal = false;
+    // Set-up: preconditioner, r = S(b - A x), z = P^-1 r, p = z.
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+    for (int row = 0; row < rows; ++row) {
+      const bool fixed = filter && filter[row];
+      Eigen::Map<Mat3<Scalar>> m(inv + 9 * row);
+      if (fixed) {
+        m.setZero();
+        xs[3 * row] = xs[3 * row + 1] = xs[3 * row + 2] = 0;
+      } else {
+        m = Eigen::Map<const Mat3<Scalar>>(val + 9 * diag[row]).inverse();
+        if (!m.allFinite()) bad_diagonal = true;
+      }
+    }
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+    for (int row = 0; row < rows; ++row) {
+      Scalar y0, y1, y2;
+      row_product(row, xs, y0, y1, y2);
+      const bool fixed = filter && filter[row];
+      Scalar* rr = r + 3 * row;
+      rr[0] = fixed ? Scalar(0) : bs[3 * row] - y0;
+      rr[1] = fixed ? Scalar(0) : bs[3 * row + 1] - y1;
+      rr[2] = fixed ? Scalar(0) : bs[3 * row + 2] - y2;
+      precondition(row);
+      for (int k = 0; k < 3; ++k) {
+        p[3 * row + k] = z[3 * row + k];
+        if (!fixed) mine.value[0] += double(bs[3 * row + k]) * double(bs[3 * row + k]);
+        mine.value[1] += double(rr[k]) * double(rr[k]);
+        mine.value[2] += double(rr[k]) * double(z[3 * row + k]);
+      }
+      if (bad_diagonal) mine.value[3] = 1;
+    }
+#if defined(_OPENMP)
+#pragma omp barrier
+#endif
+    const double bb = reduce(0, nt);
+    double rr_norm2 = reduce(1, nt);
+    double rz = reduce(2, nt);
+    const bool diagonal_failed = reduce(3, nt) != 0;
+#if defined(_OPENMP)
+#pragma omp barrier
+#endif
+    const double b_norm = std::sqrt(bb);
+    if (bb == 0) {  // b = 0: the solution is 0, whatever the warm start
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+      for (int i = 0; i < 3 * rows; ++i) xs[i] = 0;
+      rr_norm2 = 0;
+    }
+    int it = 0;
+    StepError error = StepError::None;
+    if (diagonal_failed) error = StepError::NotPositiveDefinite;
+    while (error == StepError::None && !(std::sqrt(rr_norm2) <= tol * b_norm)) {
+      if (it >= max_it) {
+        error = StepError::NoConvergence;
+        break;
+      }
+      ++it;
+      // q = S A p, pq = p . q
+      mine.value[0] = 0;
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+      for (int row = 0; row < rows; ++row) {
+        Scalar y0, y1, y2;
+        row_product(row, p, y0, y1, y2);
+        if (filter && filter[row]) y0 = y1 = y2 = 0;
+        q[3 * row] = y0;
+        q[3 * row + 1] = y1;
+        q[3 * row + 2] = y2;
+        mine.value[0] += double(p[3 * row]) * y0 + double(p[3 * row + 1]) * y1 + double(p[3 * row + 2]) * y2;
+      }
+      const double pq = reduce(0, nt);
+      if (!(pq > 0) || !std::isfinite(pq)) {
+        error = std::isfinite(pq) ? StepError::NotPositiveDefinite : StepError::NonFiniteState;
+        break;
+      }
+      const Scalar alpha = Scalar(rz / pq);
+      mine.value[1] = mine.value[2] = 0;
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+      for (int row = 0; row < rows; ++row) {
+        for (int k = 0; k < 3; ++k) {
+          xs[3 * row + k] += alpha * p[3 * row + k];
+          r[3 * row + k] -= alpha * q[3 * row + k];
+        }
+        precondition(row);
+        for (int k = 0; k < 3; ++k) {
+          mine.value[1] += double(r[3 * row + k]) * double(r[3 * row + k]);
+          mine.value[2] += double(r[3 * row + k]) * double(z[3 * row + k]);
+        }
+      }
+      rr_norm2 = reduce(1, nt);
+      const double rz_new = reduce(2, nt);
+      const Scalar beta = Scalar(rz_new / rz);
+      rz = rz_new;
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+      for (int i = 0; i < 3 * rows; ++i) p[i] = z[i] + beta * p[i];
+    }
+    if (tid == 0) {
+      status.error = error;
+      status.iterations = it;
+      status.residual = b_norm > 0 ? std::sqrt(rr_norm2) / b_norm : std::sqrt(rr_norm2);
+    }
+  };
+  // The loop's reductions are followed by implicit barriers of the next `omp for`, which is what
+  // keeps a partial from being overwritten before every thread has read it.
+#if defined(_OPENMP)
+  if (team > 1) {
+#pragma omp parallel num_threads(team)
+    body();
+    return status;
+  }
+#endif
+  body();
+  return status;
+}
+
+}  // namespace drape
