@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <limits>
 #include <set>
 
 #include <Eigen/Geometry>
@@ -47,4 +48,17 @@ TEST_CASE("triangles cover every cell twice, face +y and use every node", "[grid
   }
   REQUIRE(area == Approx(0.4 * 0.3));
   REQUIRE(used.size() == 20u);
+}
+
+TEMPLATE_TEST_CASE("a grid rejects bad sizes, spacing and mass by name", "[grid][validation]", float, double) {
+  using S = TestType;
+  using Catch::Matchers::Contains;
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  REQUIRE_THROWS_WITH(Grid<S>(1, 4, S(0.1), S(0.03)), Contains("'nx'") && Contains(">= 2"));
+  REQUIRE_THROWS_WITH(Grid<S>(4, 1, S(0.1), S(0.03)), Contains("'ny'"));
+  REQUIRE_THROWS_WITH(Grid<S>(4, 4, S(0), S(0.03)), Contains("'spacing'") && Contains("> 0"));
+  REQUIRE_THROWS_WITH(Grid<S>(4, 4, nan, S(0.03)), Contains("'spacing'"));
+  REQUIRE_THROWS_WITH(Grid<S>(4, 4, S(0.1), nan), Contains("'node_mass'") && Contains("finite"));
+  REQUIRE_THROWS_WITH(Grid<S>(4, 4, S(0.1), S(-1)), Contains("'node_mass'"));
+  REQUIRE_THROWS_WITH(Grid<S>(20000, 20000, S(0.1), S(0.03)), Contains("'nx * ny'"));
 }

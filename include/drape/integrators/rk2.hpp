@@ -3,7 +3,7 @@
 /// Explicit midpoint rule (RK2), the brief's equation (3):
 /// \f[ q_{t+1} = q_t + \Delta t\, F\!\left(q_t + \tfrac{\Delta t}{2} F(q_t)\right), \quad
 ///     q = (x, v), \quad F(q) = (v,\; M^{-1} f(x, v)). \f]
-/// Pinned nodes have zero velocity and acceleration, so they never move.
+/// Pinned nodes are reset to their position and zero velocity after each stage, so they never move.
 /// Conditionally stable: see docs/parameters.md for the largest stable dt.
 
 #include "drape/core/cloth.hpp"
@@ -26,11 +26,11 @@ class Rk2 {
   const ForceAssembler<Scalar>& forces() const { return m_forces; }
 
  private:
-  /// a = M^-1 f with zero rows for pinned nodes.
+  /// a = M^-1 f (pinned nodes are reset after each stage instead).
   void accelerations(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Matrix3X<Scalar>& acc);
 
   ForceAssembler<Scalar> m_forces;
-  VectorX<Scalar> m_inverse_mass;  // 0 for pinned nodes
+  VectorX<Scalar> m_inverse_mass;
   Matrix3X<Scalar> m_acc, m_x_mid, m_v_mid, m_x_new, m_v_new;
 };
 
@@ -40,7 +40,6 @@ template <class Scalar>
 Rk2<Scalar>::Rk2(const Cloth<Scalar>& cloth, int threads) : m_forces(cloth, threads) {
   const int n = cloth.node_count();
   m_inverse_mass = cloth.grid().masses().cwiseInverse();
-  for (int p : cloth.pins().nodes()) m_inverse_mass[p] = Scalar(0);
   for (Matrix3X<Scalar>* m : {&m_acc, &m_x_mid, &m_v_mid, &m_x_new, &m_v_new}) m->resize(3, n);
 }
 
@@ -57,10 +56,11 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state, Scalar dt) {
     detail::fail_argument("state", detail::to_text(state.positions.cols()) + " nodes",
                           detail::to_text(m_inverse_mass.size()) + " nodes (the cloth's)");
   const Scalar half = Scalar(0.5) * dt;
-  // Midpoint: q_mid = q + dt/2 F(q). Pinned velocities are zero, so pinned positions stay.
+  // Midpoint: q_mid = q + dt/2 F(q).
   accelerations(state.positions, state.velocities, m_acc);
   m_x_mid = state.positions + half * state.velocities;
   m_v_mid = state.velocities + half * m_acc;
+  // Pinned nodes stay put whatever velocity the caller left on them.
   for (int p : m_forces.cloth().pins().nodes()) {
     m_x_mid.col(p) = state.positions.col(p);
     m_v_mid.col(p).setZero();
@@ -69,11 +69,8 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state, Scalar dt) {
   accelerations(m_x_mid, m_v_mid, m_acc);
   m_x_new = state.positions + dt * m_v_mid;
   m_v_new = state.velocities + dt * m_acc;
-  // Pinned nodes keep their exact position and zero velocity, whatever the caller left in v.
-  for (int p : m_forces.cloth().pins().nodes()) {
-    m_x_new.col(p) = state.positions.col(p);
-    m_v_new.col(p).setZero();
-  }
+  // Pinned nodes: v_mid = 0 already keeps x_new = x; the velocity must be zeroed explicitly.
+  for (int p : m_forces.cloth().pins().nodes()) m_v_new.col(p).setZero();
   if (!(m_x_new.allFinite() && m_v_new.allFinite())) return {StepError::NonFiniteState, 0, 0.0};
   state.positions.swap(m_x_new);
   state.velocities.swap(m_v_new);
