@@ -12,6 +12,9 @@ template <class Scalar> class Cloth;
 template <class Scalar> class ForceAssembler;
 template <class Scalar> class Rk2;
 class Pins;
+template <class Scalar> class BlockSparseMatrix;
+template <class Scalar> class JacobianAssembler;
+template <class Scalar> class ImplicitEuler;
 
 using Gridd = Grid<double>;
 using Gridf = Grid<float>;
@@ -25,5 +28,10 @@ using Clothd = Cloth<double>;
 using Clothf = Cloth<float>;
 using Rk2d = Rk2<double>;
 using Rk2f = Rk2<float>;
+
+using JacobianAssemblerd = JacobianAssembler<double>;
+using JacobianAssemblerf = JacobianAssembler<float>;
+using ImplicitEulerd = ImplicitEuler<double>;
+using ImplicitEulerf = ImplicitEuler<float>;
 
 }  // namespace drape

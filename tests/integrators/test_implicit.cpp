@@ -1,0 +1,281 @@
+// The linearised implicit Euler integrator: order, dissipation, equilibrium, stability, failure
+// handling and option validation.
+#include <catch2/catch.hpp>
+
+#include <functional>
+
+#include "drape/fwd.hpp"
+#include "drape/integrators/implicit_euler.hpp"
+#include "drape/integrators/rk2.hpp"
+#include "drape/physics/diagnostics.hpp"
+#include "test_common.hpp"
+
+using namespace drape;
+
+namespace {
+
+bool throws_naming(const std::function<void()>& f, const std::string& word) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return std::string(e.what()).find(word) != std::string::npos;
+  }
+  return false;
+}
+
+ClothSpecd brief_scene(BoundaryCondition bc) {
+  ClothSpecd spec;  // 33 x 33, 0.1 m, 0.03 kg, g = 10, default springs
+  spec.boundary = bc;
+  return spec;
+}
+
+}  // namespace
+
+TEST_CASE("options are validated with messages that name the option", "[implicit][validation]") {
+  const Clothd cloth(test::small_spec<double>(4));
+  const auto make = [&](ImplicitOptions o) { return [&cloth, o] { ImplicitEuler<double> ie(cloth, o); }; };
+  ImplicitOptions o;
+  o.solver = "gauss-seidel";
+  CHECK(throws_naming(make(o), "'solver' = 'gauss-seidel'"));
+  CHECK(throws_naming(make(o), "cg, bicgstab, ldlt, lu"));  // lists what is available
+  o = {};
+  o.tolerance = 0;
+  CHECK(throws_naming(make(o), "tolerance"));
+  o.tolerance = -1e-6;
+  CHECK(throws_naming(make(o), "tolerance"));
+  o.tolerance = std::nan("");
+  CHECK(throws_naming(make(o), "tolerance"));
+  o = {};
+  o.max_iterations = 0;
+  CHECK(throws_naming(make(o), "max_iterations"));
+  o = {};
+  o.threads = -1;
+  CHECK(throws_naming(make(o), "threads"));
+  o = {};
+  o.jacobian = JacobianVariant::Exact;
+  o.solver = "cg";
+  CHECK(throws_naming(make(o), "non-symmetric solver"));
+  o.solver = "ldlt";
+  CHECK(throws_naming(make(o), "non-symmetric solver"));
+  o = {};
+  o.pins = PinTreatment::Filter;
+  o.solver = "ldlt";
+  CHECK(throws_naming(make(o), "pins"));
+  o = {};
+  o.solver = "cholmod";
+#if defined(DRAPE_HAS_SUITESPARSE)
+  CHECK_NOTHROW(make(o)());
+#else
+  CHECK(throws_naming(make(o), "needs SuiteSparse"));
+#endif
+  // dt and state size
+  ImplicitEuler<double> ie(cloth);
+  State<double> s = cloth.initial_state();
+  CHECK(throws_naming([&] { ie.step(s, 0.0); }, "dt"));
+  CHECK(throws_naming([&] { ie.step(s, std::numeric_limits<double>::infinity()); }, "dt"));
+  State<double> wrong = Clothd(test::small_spec<double>(5)).initial_state();
+  CHECK(throws_naming([&] { ie.step(wrong, 0.01); }, "state"));
+}
+
+TEST_CASE("implicit Euler is first order: the error halves when dt halves", "[implicit][accuracy]") {
+  ClothSpecd spec = test::small_spec<double>(5, 10.0);
+  spec.springs = {{300.0, 0.5}, {200.0, 0.3}, {50.0, 0.1}};
+  spec.boundary = BoundaryCondition::OneCorner;
+  const Clothd cloth(spec);
+  const double t_end = 0.1;
+  // Reference: RK2 (second order) with a tiny step.
+  State<double> reference = cloth.initial_state();
+  Rk2<double> rk2(cloth, 1);
+  for (int k = 0; k < 20000; ++k) REQUIRE(rk2.step(reference, t_end / 20000).ok());
+  const auto error = [&](int steps) {
+    ImplicitOptions o;
+    o.solver = "ldlt";
+    o.jacobian = JacobianVariant::Symmetric;
+    ImplicitEuler<double> ie(cloth, o);
+    State<double> s = cloth.initial_state();
+    for (int k = 0; k < steps; ++k) REQUIRE(ie.step(s, t_end / steps).ok());
+    return (s.positions - reference.positions).norm();
+  };
+  const double e1 = error(100), e2 = error(200), e3 = error(400);
+  INFO("errors " << e1 << " " << e2 << " " << e3);
+  CHECK(e1 / e2 > 1.8);
+  CHECK(e1 / e2 < 2.2);
+  CHECK(e2 / e3 > 1.8);
+  CHECK(e2 / e3 < 2.2);
+}
+
+TEST_CASE("with kd = 0 the total energy never increases", "[implicit][energy]") {
+  for (JacobianVariant variant : {JacobianVariant::Spd, JacobianVariant::Symmetric}) {
+    ClothSpecd spec = test::small_spec<double>(6, 10.0);  // kd = 0 in every category
+    spec.boundary = BoundaryCondition::TwoCorners;
+    const Clothd cloth(spec);
+    State<double> s = cloth.initial_state();
+    s.positions = test::jiggled_positions(cloth, 0.2, 9u);
+    for (int p : cloth.pins().nodes()) s.positions.col(p) = cloth.grid().rest_positions().col(p);
+    ImplicitOptions o;
+    o.jacobian = variant;
+    o.solver = "ldlt";
+    ImplicitEuler<double> ie(cloth, o);
+    double e = total_energy(cloth, s);
+    const double e0 = e;
+    for (int k = 0; k < 200; ++k) {
+      REQUIRE(ie.step(s, 0.01).ok());
+      const double e_next = total_energy(cloth, s);
+      INFO(to_string(variant) << " step " << k << ": " << e << " -> " << e_next);
+      REQUIRE(e_next <= e + 1e-12 * std::abs(e0));
+      e = e_next;
+    }
+    CHECK(e < e0);  // and it really dissipates
+  }
+}
+
+TEST_CASE("static equilibrium: the pins carry the cloth's weight (326.7 N)", "[implicit][equilibrium]") {
+  const Clothd cloth(brief_scene(BoundaryCondition::TwoCorners));
+  ImplicitOptions o;
+  o.solver = "ldlt";
+  ImplicitEuler<double> ie(cloth, o);
+  State<double> s = cloth.initial_state();
+  // Large steps damp the motion out quickly (implicit Euler's numerical dissipation).
+  for (int k = 0; k < 150; ++k) REQUIRE(ie.step(s, 0.1).ok());
+  for (int k = 0; k < 20; ++k) REQUIRE(ie.step(s, 0.01).ok());
+  const double weight = cloth.grid().total_mass() * 10.0;
+  REQUIRE(weight == Approx(326.7));
+  const Vec3<double> reaction = pin_reaction(cloth, s);
+  INFO("reaction " << reaction.transpose() << ", largest free force " << max_free_force(cloth, s));
+  CHECK(std::abs(reaction.y() - weight) < 1e-3 * weight);
+  CHECK(std::abs(reaction.x()) < 1e-3 * weight);
+  CHECK(std::abs(reaction.z()) < 1e-3 * weight);
+  CHECK(max_free_force(cloth, s) < 1e-3);  // N, against ~0.3 N of weight per node
+}
+
+TEST_CASE("the brief's scene stays stable at dt = 1/60 s and 0.1 s, where RK2 blows up", "[implicit][stability]") {
+  for (BoundaryCondition bc : {BoundaryCondition::OneCorner, BoundaryCondition::TwoCorners}) {
+    const Clothd cloth(brief_scene(bc));
+    for (double dt : {1.0 / 60, 0.1}) {
+      INFO("boundary " << int(bc) << ", dt " << dt);
+      ImplicitEuler<double> ie(cloth);  // defaults
+      State<double> s = cloth.initial_state();
+      const int steps = static_cast<int>(std::lround(2.0 / dt));  // 2 s of simulated time
+      for (int k = 0; k < steps; ++k) {
+        const StepStatus status = ie.step(s, dt);
+        INFO("step " << k << ": " << to_string(status.error));
+        REQUIRE(status.ok());
+        REQUIRE(status.residual <= 1e-6);
+      }
+      CHECK(s.all_finite());
+      CHECK(max_strain(cloth, s.positions) < 0.5);
+      // Energy stays below the start (nothing is pumped in).
+      CHECK(total_energy(cloth, s) < total_energy(cloth, cloth.initial_state()));
+      // RK2 on the same scene and dt fails within the same simulated time.
+      Rk2<double> rk2(cloth, 1);
+      State<double> r = cloth.initial_state();
+      bool failed = false;
+      for (int k = 0; k < steps && !failed; ++k) failed = !rk2.step(r, dt).ok() || max_strain(cloth, r.positions) > 10;
+      CHECK(failed);
+    }
+  }
+}
+
+TEST_CASE("every Jacobian variant with every solver runs the brief's scene, both boundary conditions", "[implicit][solvers]") {
+  for (BoundaryCondition bc : {BoundaryCondition::OneCorner, BoundaryCondition::TwoCorners}) {
+    const Clothd cloth(brief_scene(bc));
+    State<double> reference;
+    for (JacobianVariant variant : {JacobianVariant::Spd, JacobianVariant::Symmetric, JacobianVariant::Exact}) {
+      for (const std::string& name : available_solvers()) {
+        if (variant == JacobianVariant::Exact && solver_requires_symmetric(name)) continue;
+        ImplicitOptions o;
+        o.jacobian = variant;
+        o.solver = name;
+        o.tolerance = 1e-8;
+        ImplicitEuler<double> ie(cloth, o);
+        State<double> s = cloth.initial_state();
+        for (int k = 0; k < 6; ++k) {
+          const StepStatus status = ie.step(s, 1.0 / 60);
+          INFO(to_string(variant) << " / " << name << " / bc " << int(bc) << " step " << k << ": " << to_string(status.error));
+          REQUIRE(status.ok());
+        }
+        // Starting flat, the variants differ only where springs are compressed or damped: the
+        // states agree closely; solvers of the same variant agree to their tolerance.
+        if (reference.positions.size() == 0) reference = s;
+        INFO(to_string(variant) << " / " << name);
+        CHECK((s.positions - reference.positions).cwiseAbs().maxCoeff() < 2e-2);
+      }
+    }
+  }
+}
+
+TEST_CASE("filtered and eliminated pins give the same trajectory", "[implicit][pins]") {
+  const Clothd cloth(test::small_spec<double>(8, 10.0));
+  State<double> a = cloth.initial_state(), b = cloth.initial_state();
+  ImplicitOptions oa, ob;
+  oa.tolerance = ob.tolerance = 1e-10;
+  ob.pins = PinTreatment::Filter;
+  ImplicitEuler<double> ia(cloth, oa), ib(cloth, ob);
+  for (int k = 0; k < 20; ++k) {
+    REQUIRE(ia.step(a, 0.02).ok());
+    REQUIRE(ib.step(b, 0.02).ok());
+  }
+  CHECK((a.positions - b.positions).cwiseAbs().maxCoeff() < 1e-8);
+  for (int p : cloth.pins().nodes()) CHECK(b.positions.col(p) == cloth.grid().rest_positions().col(p));
+}
+
+TEST_CASE("a failed step leaves the state unchanged and says why", "[implicit][failure]") {
+  const Clothd cloth(brief_scene(BoundaryCondition::TwoCorners));
+  SECTION("iteration cap") {
+    ImplicitOptions o;
+    o.max_iterations = 3;
+    ImplicitEuler<double> ie(cloth, o);
+    State<double> s = cloth.initial_state();
+    const State<double> before = s;
+    const StepStatus status = ie.step(s, 1.0 / 60);
+    CHECK(status.error == StepError::NoConvergence);
+    CHECK(status.iterations == 3);
+    CHECK(s.positions == before.positions);
+    CHECK(s.velocities == before.velocities);
+    CHECK(s.time == before.time);
+  }
+  SECTION("non-finite input") {
+    for (const std::string name : {"cg", "ldlt"}) {
+      ImplicitOptions o;
+      o.solver = name;
+      ImplicitEuler<double> ie(cloth, o);
+      State<double> s = cloth.initial_state();
+      s.velocities(1, 40) = std::numeric_limits<double>::quiet_NaN();
+      const State<double> before = s;
+      const StepStatus status = ie.step(s, 1.0 / 60);
+      INFO(name << ": " << to_string(status.error));
+      CHECK_FALSE(status.ok());
+      CHECK(s.positions == before.positions);
+      CHECK(s.time == before.time);
+      CHECK(std::isnan(s.velocities(1, 40)));
+    }
+  }
+  SECTION("indefinite system with the Symmetric Jacobian") {
+    ImplicitOptions o;
+    o.jacobian = JacobianVariant::Symmetric;
+    o.solver = "ldlt";
+    ImplicitEuler<double> ie(cloth, o);
+    State<double> s = cloth.initial_state();
+    s.positions *= 0.4;  // every spring compressed to 40%
+    const State<double> before = s;
+    CHECK(ie.step(s, 0.1).error == StepError::NotPositiveDefinite);
+    CHECK(s.positions == before.positions);
+  }
+}
+
+TEST_CASE("float implicit Euler follows double", "[implicit][float]") {
+  ClothSpecf spec_f = test::small_spec<float>(6, 10.0f);
+  const Clothf cloth_f(spec_f);
+  const Clothd cloth_d(test::small_spec<double>(6, 10.0));
+  ImplicitOptions o;
+  o.tolerance = 1e-5;
+  ImplicitEuler<float> ief(cloth_f, o);
+  ImplicitEuler<double> ied(cloth_d, o);
+  State<float> sf = cloth_f.initial_state();
+  State<double> sd = cloth_d.initial_state();
+  for (int k = 0; k < 30; ++k) {
+    REQUIRE(ief.step(sf, 0.01f).ok());
+    REQUIRE(ied.step(sd, 0.01).ok());
+  }
+  CHECK((sf.positions.cast<double>() - sd.positions).cwiseAbs().maxCoeff() < 1e-3);
+}

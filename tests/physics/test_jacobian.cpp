@@ -1,0 +1,185 @@
+// Jacobians of the damped spring force against central finite differences of the assembled global
+// force, symmetry, and positive definiteness of the SPD variant.
+#include <catch2/catch.hpp>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+#include "drape/fwd.hpp"
+#include "drape/physics/force_assembler.hpp"
+#include "drape/physics/jacobian_assembler.hpp"
+#include "test_common.hpp"
+
+using namespace drape;
+using Dense = Eigen::MatrixXd;
+
+namespace {
+
+ClothSpecd damped_spec(int n) {
+  ClothSpecd spec = test::small_spec<double>(n, 10.0);
+  spec.springs = {{300.0, 2.0}, {200.0, 1.5}, {50.0, 0.5}};
+  spec.pinned_nodes = std::vector<int>{};  // every node in the system
+  return spec;
+}
+
+/// Central differences of the global force with respect to positions (wrt_x) or velocities.
+Dense fd_jacobian(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X<double>& v, bool wrt_x) {
+  ForceAssembler<double> forces(cloth, 1);
+  const Index n = x.size();
+  Dense j(n, n);
+  Matrix3X<double> fp(3, cloth.node_count()), fm(3, cloth.node_count());
+  const double h = 1e-6;
+  for (Index k = 0; k < n; ++k) {
+    Matrix3X<double> xp = x, xm = x, vp = v, vm = v;
+    (wrt_x ? xp : vp).data()[k] += h;
+    (wrt_x ? xm : vm).data()[k] -= h;
+    forces.force(xp, vp, fp);
+    forces.force(xm, vm, fm);
+    j.col(k) = (flat(fp) - flat(fm)) / (2 * h);
+  }
+  return j;
+}
+
+void assembled(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X<double>& v, JacobianVariant variant,
+               Dense& dfdx, Dense& dfdv) {
+  JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
+  BlockSparseMatrix<double> kx = assembler.make_matrix(), kv = assembler.make_matrix();
+  assembler.assemble_jacobians(x, v, variant, kx, kv);
+  dfdx = kx.to_dense();
+  dfdv = kv.to_dense();
+}
+
+double max_relative_error(const Dense& a, const Dense& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
+}
+
+}  // namespace
+
+TEST_CASE("Exact df/dx and df/dv match finite differences of the damped force", "[jacobian]") {
+  const Clothd cloth(damped_spec(4));
+  for (unsigned seed : {1u, 2u, 3u}) {
+    // +-35% of the spacing: a mix of stretched and compressed springs, random velocities.
+    const Matrix3X<double> x = test::jiggled_positions(cloth, 0.35, seed);
+    const Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 2.0, seed + 10);
+    Dense dfdx, dfdv;
+    assembled(cloth, x, v, JacobianVariant::Exact, dfdx, dfdv);
+    CHECK(max_relative_error(dfdx, fd_jacobian(cloth, x, v, true)) < 1e-6);
+    CHECK(max_relative_error(dfdv, fd_jacobian(cloth, x, v, false)) < 1e-6);
+  }
+}
+
+TEST_CASE("Symmetric df/dx is the exact Jacobian of the undamped force and drops the damping term", "[jacobian]") {
+  const Clothd cloth(damped_spec(4));
+  const Matrix3X<double> x = test::jiggled_positions(cloth, 0.35, 7u);
+  const Matrix3X<double> v0 = Matrix3X<double>::Zero(3, cloth.node_count());
+  const Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 2.0, 8u);
+  Dense sym, dfdv, sym_v, exact_v;
+  assembled(cloth, x, v0, JacobianVariant::Symmetric, sym, dfdv);
+  CHECK(max_relative_error(sym, fd_jacobian(cloth, x, v0, true)) < 1e-6);
+  // With velocities the damping term's x-derivative is what separates Exact from Symmetric.
+  assembled(cloth, x, v, JacobianVariant::Symmetric, sym_v, dfdv);
+  assembled(cloth, x, v, JacobianVariant::Exact, exact_v, dfdv);
+  CHECK(max_relative_error(sym_v, sym) < 1e-12);  // Symmetric ignores v
+  CHECK(max_relative_error(exact_v, sym) > 1e-3);
+}
+
+TEST_CASE("Spd df/dx equals the exact elastic Jacobian when every spring is stretched", "[jacobian]") {
+  const Clothd cloth(damped_spec(4));
+  // Scaled by 1.2 plus a small jiggle: every spring longer than its rest length.
+  Matrix3X<double> x = test::jiggled_positions(cloth, 0.03, 3u) * 1.2;
+  const Matrix3X<double> v0 = Matrix3X<double>::Zero(3, cloth.node_count());
+  Dense spd, dfdv;
+  assembled(cloth, x, v0, JacobianVariant::Spd, spd, dfdv);
+  CHECK(max_relative_error(spd, fd_jacobian(cloth, x, v0, true)) < 1e-6);
+}
+
+TEST_CASE("Symmetric and Spd Jacobians are symmetric, Exact is not; Spd is negative semi-definite", "[jacobian]") {
+  const Clothd cloth(damped_spec(4));
+  const Matrix3X<double> x = test::jiggled_positions(cloth, 0.35, 11u);
+  const Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 2.0, 12u);
+  Dense exact, sym, spd, dfdv;
+  assembled(cloth, x, v, JacobianVariant::Exact, exact, dfdv);
+  assembled(cloth, x, v, JacobianVariant::Symmetric, sym, dfdv);
+  assembled(cloth, x, v, JacobianVariant::Spd, spd, dfdv);
+  CHECK((sym - sym.transpose()).cwiseAbs().maxCoeff() < 1e-12 * sym.cwiseAbs().maxCoeff());
+  CHECK((spd - spd.transpose()).cwiseAbs().maxCoeff() < 1e-12 * spd.cwiseAbs().maxCoeff());
+  CHECK((dfdv - dfdv.transpose()).cwiseAbs().maxCoeff() < 1e-12 * dfdv.cwiseAbs().maxCoeff());
+  CHECK((exact - exact.transpose()).cwiseAbs().maxCoeff() > 1e-3 * exact.cwiseAbs().maxCoeff());
+  const Eigen::SelfAdjointEigenSolver<Dense> eig(spd);
+  CHECK(eig.eigenvalues().maxCoeff() <= 1e-9 * spd.cwiseAbs().maxCoeff());
+  const Eigen::SelfAdjointEigenSolver<Dense> eig_v(dfdv);
+  CHECK(eig_v.eigenvalues().maxCoeff() <= 1e-9 * dfdv.cwiseAbs().maxCoeff());
+}
+
+TEST_CASE("the Spd system matrix factorises where the Symmetric one does not (heavy compression)", "[jacobian]") {
+  ClothSpecd spec = damped_spec(5);
+  spec.springs = ClothSpecd::default_springs();
+  const Clothd cloth(spec);
+  // Squashed to 40% of its size with a small out-of-plane jiggle: every spring heavily compressed.
+  Matrix3X<double> x = test::jiggled_positions(cloth, 0.05, 5u) * 0.4;
+  const Matrix3X<double> v = Matrix3X<double>::Zero(3, cloth.node_count());
+  JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
+  BlockSparseMatrix<double> a = assembler.make_matrix();
+  VectorX<double> rhs(a.size());
+  const double dt = 1.0 / 60;
+  assembler.assemble_system(x, v, dt, JacobianVariant::Symmetric, a, rhs);
+  CHECK(Eigen::LLT<Dense>(a.to_dense()).info() == Eigen::NumericalIssue);
+  assembler.assemble_system(x, v, dt, JacobianVariant::Spd, a, rhs);
+  CHECK(Eigen::LLT<Dense>(a.to_dense()).info() == Eigen::Success);
+}
+
+TEST_CASE("system matrix and right-hand side follow the brief's formula", "[jacobian]") {
+  // A = M - dt df/dv - dt^2 df/dx, b = dt (f + dt df/dx v), checked against the separately
+  // assembled Jacobians and the force assembler, with two pinned nodes eliminated.
+  ClothSpecd spec = damped_spec(4);
+  spec.pinned_nodes = std::vector<int>{0, 3};
+  const Clothd cloth(spec);
+  const Matrix3X<double> x = test::jiggled_positions(cloth, 0.3, 21u);
+  Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 22u);
+  v.col(0).setZero();
+  v.col(3).setZero();
+  const double dt = 0.02;
+  for (JacobianVariant variant : {JacobianVariant::Exact, JacobianVariant::Symmetric, JacobianVariant::Spd}) {
+    JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
+    REQUIRE(assembler.system_nodes() == cloth.node_count() - 2);
+    BlockSparseMatrix<double> a = assembler.make_matrix(), kx = assembler.make_matrix(), kv = assembler.make_matrix();
+    VectorX<double> rhs(a.size());
+    assembler.assemble_system(x, v, dt, variant, a, rhs);
+    assembler.assemble_jacobians(x, v, variant, kx, kv);
+    VectorX<double> m(a.size());
+    VectorX<double> vf(a.size());
+    Matrix3X<double> f(3, cloth.node_count());
+    ForceAssembler<double>(cloth, 1).force(x, v, f);
+    VectorX<double> ff(a.size());
+    for (int r = 0; r < assembler.system_nodes(); ++r) {
+      const int node = assembler.node_of_row()[static_cast<std::size_t>(r)];
+      m.segment<3>(3 * r).setConstant(cloth.grid().masses()[node]);
+      vf.segment<3>(3 * r) = v.col(node);
+      ff.segment<3>(3 * r) = f.col(node);
+    }
+    const Dense expected_a = Dense(m.asDiagonal()) - dt * kv.to_dense() - dt * dt * kx.to_dense();
+    CHECK(max_relative_error(a.to_dense(), expected_a) < 1e-12);
+    const VectorX<double> expected_b = dt * (ff + dt * (kx.to_dense() * vf));
+    CHECK((rhs - expected_b).cwiseAbs().maxCoeff() < 1e-12 * std::max(1.0, expected_b.cwiseAbs().maxCoeff()));
+  }
+}
+
+TEST_CASE("float assembly agrees with double", "[jacobian][float]") {
+  const Clothd cloth_d(damped_spec(4));
+  ClothSpecf spec_f = test::small_spec<float>(4, 10.0f);
+  spec_f.springs = {{300.0f, 2.0f}, {200.0f, 1.5f}, {50.0f, 0.5f}};
+  spec_f.pinned_nodes = std::vector<int>{};
+  const Clothf cloth_f(spec_f);
+  const Matrix3X<double> x = test::jiggled_positions(cloth_d, 0.3, 31u);
+  const Matrix3X<double> v = test::random_velocities<double>(cloth_d.node_count(), 1.0, 32u);
+  JacobianAssembler<double> ad(cloth_d, PinTreatment::Eliminate, 1);
+  JacobianAssembler<float> af(cloth_f, PinTreatment::Eliminate, 1);
+  BlockSparseMatrix<double> md = ad.make_matrix();
+  BlockSparseMatrix<float> mf = af.make_matrix();
+  VectorX<double> bd(md.size());
+  VectorX<float> bf(mf.size());
+  ad.assemble_system(x, v, 0.01, JacobianVariant::Exact, md, bd);
+  af.assemble_system(x.cast<float>(), v.cast<float>(), 0.01f, JacobianVariant::Exact, mf, bf);
+  CHECK(max_relative_error(mf.to_dense().cast<double>(), md.to_dense()) < 1e-5);
+  CHECK((bf.cast<double>() - bd).cwiseAbs().maxCoeff() < 1e-5 * std::max(1.0, bd.cwiseAbs().maxCoeff()));
+}

@@ -1,0 +1,199 @@
+// Every linear solver gives the same dv on the same system; filtered and eliminated pins agree;
+// failures are reported, not hidden.
+#include <catch2/catch.hpp>
+
+#include <Eigen/LU>
+
+#include "drape/fwd.hpp"
+#include "drape/physics/jacobian_assembler.hpp"
+#include "drape/solvers/solver_registry.hpp"
+#include "test_common.hpp"
+
+using namespace drape;
+
+namespace {
+
+struct System {
+  BlockSparseMatrix<double> a;
+  VectorX<double> b;
+};
+
+/// The implicit system of a deformed, moving 6x6 cloth with two pinned corners.
+System make_system(JacobianVariant variant, PinTreatment pins = PinTreatment::Eliminate, double dt = 0.01) {
+  static const Clothd cloth = [] {
+    ClothSpecd spec = test::small_spec<double>(6, 10.0);
+    spec.springs = {{2000.0, 2.0}, {800.0, 1.0}, {100.0, 0.5}};
+    return Clothd(spec);
+  }();
+  const Matrix3X<double> x = test::jiggled_positions(cloth, 0.2, 3u);
+  Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 4u);
+  for (int p : cloth.pins().nodes()) v.col(p).setZero();
+  JacobianAssembler<double> assembler(cloth, pins, 1);
+  System s{assembler.make_matrix(), VectorX<double>(3 * assembler.system_nodes())};
+  assembler.assemble_system(x, v, dt, variant, s.a, s.b);
+  return s;
+}
+
+VectorX<double> solve_with(const std::string& name, const System& s, double tolerance = 1e-10) {
+  IterativeSettings settings;
+  settings.tolerance = tolerance;
+  settings.threads = 1;
+  auto solver = make_linear_solver<double>(name, settings);
+  solver->analyze(s.a);
+  VectorX<double> x = VectorX<double>::Zero(s.b.size());
+  const StepStatus status = solver->solve(s.a, s.b, x);
+  INFO(name << ": " << to_string(status.error));
+  REQUIRE(status.ok());
+  CHECK(status.residual <= 1e-9);
+  return x;
+}
+
+double relative_difference(const VectorX<double>& a, const VectorX<double>& b) { return (a - b).norm() / b.norm(); }
+
+}  // namespace
+
+TEST_CASE("every solver gives the dense solution of the symmetric (SPD) system", "[solvers]") {
+  const System s = make_system(JacobianVariant::Spd);
+  const VectorX<double> reference = s.a.to_dense().lu().solve(s.b);
+  for (const std::string& name : available_solvers()) {
+    INFO(name);
+    CHECK(relative_difference(solve_with(name, s), reference) < 1e-8);
+  }
+}
+
+TEST_CASE("the non-symmetric solvers solve the Exact system", "[solvers]") {
+  const System s = make_system(JacobianVariant::Exact);
+  const Eigen::MatrixXd dense = s.a.to_dense();
+  REQUIRE((dense - dense.transpose()).cwiseAbs().maxCoeff() > 1e-6);
+  const VectorX<double> reference = dense.lu().solve(s.b);
+  for (const std::string& name : available_solvers()) {
+    if (solver_requires_symmetric(name)) continue;
+    INFO(name);
+    CHECK(relative_difference(solve_with(name, s), reference) < 1e-8);
+  }
+}
+
+TEST_CASE("filtered pins (PCG over all nodes) and eliminated pins give the same dv", "[solvers][pins]") {
+  const System eliminated = make_system(JacobianVariant::Spd, PinTreatment::Eliminate);
+  const System filtered = make_system(JacobianVariant::Spd, PinTreatment::Filter);
+  const Clothd cloth = [] {
+    ClothSpecd spec = test::small_spec<double>(6, 10.0);
+    return Clothd(spec);
+  }();
+  JacobianAssembler<double> with_all(cloth, PinTreatment::Filter, 1);
+  REQUIRE(filtered.b.size() == eliminated.b.size() + 3 * cloth.pins().count());
+  const VectorX<double> direct = solve_with("ldlt", eliminated);
+  for (const std::string name : {"cg", "bicgstab"}) {
+    IterativeSettings settings;
+    settings.tolerance = 1e-10;
+    auto solver = make_linear_solver<double>(name, settings);
+    REQUIRE(solver->supports_filter());
+    solver->analyze(filtered.a);
+    VectorX<double> x = VectorX<double>::Ones(filtered.b.size());  // a warm start that violates the pins
+    const StepStatus status = solver->solve(filtered.a, filtered.b, x, with_all.filter().data());
+    REQUIRE(status.ok());
+    // Free rows agree with the eliminated solve, pinned rows are exactly zero.
+    VectorX<double> free(direct.size());
+    for (int node = 0, r = 0; node < cloth.node_count(); ++node) {
+      if (cloth.pins().is_pinned(node)) {
+        CHECK(x.segment<3>(3 * node).isZero(0.0));
+        continue;
+      }
+      free.segment<3>(3 * r++) = x.segment<3>(3 * node);
+    }
+    INFO(name);
+    CHECK(relative_difference(free, direct) < 1e-8);
+  }
+}
+
+TEST_CASE("CG and LDLT report an indefinite system instead of returning garbage", "[solvers]") {
+  // Heavily compressed cloth, Symmetric Jacobian, large dt: indefinite system matrix.
+  ClothSpecd spec = test::small_spec<double>(5, 0.0);
+  spec.springs = ClothSpecd::default_springs();
+  const Clothd cloth(spec);
+  const Matrix3X<double> x = test::jiggled_positions(cloth, 0.05, 5u) * 0.4;
+  const Matrix3X<double> v = Matrix3X<double>::Zero(3, cloth.node_count());
+  JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
+  BlockSparseMatrix<double> a = assembler.make_matrix();
+  VectorX<double> b(a.size());
+  assembler.assemble_system(x, v, 0.05, JacobianVariant::Symmetric, a, b);
+  b.setOnes();
+  for (const std::string name : {"cg", "ldlt"}) {
+    auto solver = make_linear_solver<double>(name);
+    solver->analyze(a);
+    VectorX<double> dv = VectorX<double>::Zero(a.size());
+    INFO(name);
+    CHECK(solver->solve(a, b, dv).error == StepError::NotPositiveDefinite);
+  }
+}
+
+TEST_CASE("an iterative solver that hits its cap says so", "[solvers]") {
+  const System s = make_system(JacobianVariant::Spd, PinTreatment::Eliminate, 0.1);
+  for (const std::string name : {"cg", "bicgstab"}) {
+    IterativeSettings settings;
+    settings.max_iterations = 2;
+    auto solver = make_linear_solver<double>(name, settings);
+    solver->analyze(s.a);
+    VectorX<double> x = VectorX<double>::Zero(s.b.size());
+    const StepStatus status = solver->solve(s.a, s.b, x);
+    INFO(name);
+    CHECK(status.error == StepError::NoConvergence);
+    CHECK(status.iterations == 2);
+    CHECK(status.residual > 1e-6);
+  }
+}
+
+TEST_CASE("PCG with two threads agrees with one thread and is reproducible", "[solvers][threads]") {
+  // 60 x 60 nodes so that the solver really uses two threads (PcgSolver::min_rows_per_thread).
+  ClothSpecd spec = test::small_spec<double>(60, 10.0);
+  const Clothd cloth(spec);
+  const Matrix3X<double> x = test::jiggled_positions(cloth, 0.1, 3u);
+  const Matrix3X<double> v = Matrix3X<double>::Zero(3, cloth.node_count());
+  JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
+  BlockSparseMatrix<double> a = assembler.make_matrix();
+  VectorX<double> b(a.size());
+  assembler.assemble_system(x, v, 0.01, JacobianVariant::Spd, a, b);
+  const auto run = [&](int threads) {
+    IterativeSettings settings;
+    settings.threads = threads;
+    settings.tolerance = 1e-8;
+    PcgSolver<double> cg(settings);
+    cg.analyze(a);
+    VectorX<double> dv = VectorX<double>::Zero(a.size());
+    REQUIRE(cg.solve(a, b, dv).ok());
+    return dv;
+  };
+  const VectorX<double> one = run(1), two = run(2), two_again = run(2);
+  CHECK(relative_difference(two, one) < 1e-7);
+  CHECK(two == two_again);
+}
+
+TEST_CASE("float PCG agrees with double", "[solvers][float]") {
+  const System s = make_system(JacobianVariant::Spd);
+  const VectorX<double> reference = solve_with("ldlt", s);
+  // Same system in float.
+  ClothSpecf spec = test::small_spec<float>(6, 10.0f);
+  spec.springs = {{2000.0f, 2.0f}, {800.0f, 1.0f}, {100.0f, 0.5f}};
+  const Clothf cloth(spec);
+  const Clothd cloth_d = [] {
+    ClothSpecd sd = test::small_spec<double>(6, 10.0);
+    return Clothd(sd);
+  }();
+  const Matrix3X<float> x = test::jiggled_positions(cloth_d, 0.2, 3u).cast<float>();
+  Matrix3X<float> v = test::random_velocities<double>(cloth.node_count(), 1.0, 4u).cast<float>();
+  for (int p : cloth.pins().nodes()) v.col(p).setZero();
+  JacobianAssembler<float> assembler(cloth, PinTreatment::Eliminate, 1);
+  BlockSparseMatrix<float> a = assembler.make_matrix();
+  VectorX<float> b(a.size());
+  assembler.assemble_system(x, v, 0.01f, JacobianVariant::Spd, a, b);
+  IterativeSettings settings;
+  settings.tolerance = 1e-5;
+  for (const std::string name : {"cg", "ldlt"}) {
+    auto solver = make_linear_solver<float>(name, settings);
+    solver->analyze(a);
+    VectorX<float> dv = VectorX<float>::Zero(a.size());
+    REQUIRE(solver->solve(a, b, dv).ok());
+    INFO(name);
+    CHECK(relative_difference(dv.cast<double>(), reference) < 1e-4);
+  }
+}
