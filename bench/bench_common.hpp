@@ -59,6 +59,11 @@ inline double compressed_fraction(const drape::Cloth<double>& cloth, const drape
 void warm_up(const drape::Cloth<double>& cloth, drape::State<double>& state);
 extern const char* const warm_up_method;
 
+/// Checks, before anything is timed, that the default iterative solve agrees with a direct solve
+/// and that the baseline simulates the same physics as drape; returns the measured differences as
+/// a sentence for docs/benchmarks.md, or exits with status 2 if a check fails (bench_implicit.cpp).
+std::string check_accuracy();
+
 inline const Scene& scene(int n) {
   static std::map<int, Scene> cache;
   auto it = cache.find(n);
@@ -91,9 +96,12 @@ inline benchmark::internal::Benchmark* sized(benchmark::internal::Benchmark* b, 
 /// Runs `step(state)` once per benchmark iteration from the scene's warm state, resetting to it
 /// every `window` steps outside the timer, and records solver counters:
 /// `cg_iterations` (mean per step), `residual_max` (largest relative residual), `failures`.
+/// With `prime`, every (re)start also takes one untimed step first, so a warm-started iterative
+/// solver always starts from the previous step's solution, as it does in a running simulation.
 template <class StepFn>
-void run_steps(benchmark::State& st, const Scene& sc, int window, StepFn&& step) {
+void run_steps(benchmark::State& st, const Scene& sc, int window, StepFn&& step, bool prime = false) {
   drape::State<double> s = sc.warm;
+  if (prime) step(s);
   int k = 0;
   long long steps = 0, iterations = 0, failures = 0;
   double residual_max = 0;
@@ -101,6 +109,7 @@ void run_steps(benchmark::State& st, const Scene& sc, int window, StepFn&& step)
     if (k == window) {
       st.PauseTiming();
       s = sc.warm;
+      if (prime) step(s);
       k = 0;
       st.ResumeTiming();
     }
