@@ -110,7 +110,10 @@ TEST_CASE("with kd = 0 the total energy never increases", "[implicit][energy]") 
     spec.boundary = BoundaryCondition::TwoCorners;
     const Clothd cloth(spec);
     State<double> s = cloth.initial_state();
-    s.positions = test::jiggled_positions(cloth, 0.2, 9u);
+    // Spd from a jiggled start (compressed and stretched springs); Symmetric would meet an
+    // indefinite matrix there, so it starts stretched by 10%.
+    s.positions = variant == JacobianVariant::Spd ? test::jiggled_positions(cloth, 0.2, 9u)
+                                                  : Matrix3X<double>(test::jiggled_positions(cloth, 0.02, 9u) * 1.1);
     for (int p : cloth.pins().nodes()) s.positions.col(p) = cloth.grid().rest_positions().col(p);
     ImplicitOptions o;
     o.jacobian = variant;
@@ -119,7 +122,9 @@ TEST_CASE("with kd = 0 the total energy never increases", "[implicit][energy]") 
     double e = total_energy(cloth, s);
     const double e0 = e;
     for (int k = 0; k < 200; ++k) {
-      REQUIRE(ie.step(s, 0.01).ok());
+      const StepStatus status = ie.step(s, 0.01);
+      INFO(to_string(variant) << " step " << k << ": " << to_string(status.error));
+      REQUIRE(status.ok());
       const double e_next = total_energy(cloth, s);
       INFO(to_string(variant) << " step " << k << ": " << e << " -> " << e_next);
       REQUIRE(e_next <= e + 1e-12 * std::abs(e0));
@@ -135,9 +140,9 @@ TEST_CASE("static equilibrium: the pins carry the cloth's weight (326.7 N)", "[i
   o.solver = "ldlt";
   ImplicitEuler<double> ie(cloth, o);
   State<double> s = cloth.initial_state();
-  // Large steps damp the motion out quickly (implicit Euler's numerical dissipation).
-  for (int k = 0; k < 150; ++k) REQUIRE(ie.step(s, 0.1).ok());
-  for (int k = 0; k < 20; ++k) REQUIRE(ie.step(s, 0.01).ok());
+  // Large steps damp the motion out quickly (implicit Euler's numerical dissipation; as dt grows
+  // the step tends to a Newton step on the static problem).
+  for (int k = 0; k < 90; ++k) REQUIRE(ie.step(s, 0.3).ok());
   const double weight = cloth.grid().total_mass() * 10.0;
   REQUIRE(weight == Approx(326.7));
   const Vec3<double> reaction = pin_reaction(cloth, s);
@@ -226,6 +231,7 @@ TEST_CASE("a failed step leaves the state unchanged and says why", "[implicit][f
     o.max_iterations = 3;
     ImplicitEuler<double> ie(cloth, o);
     State<double> s = cloth.initial_state();
+    s.positions = test::jiggled_positions(cloth, 0.1, 3u);  // from the flat start one iteration suffices
     const State<double> before = s;
     const StepStatus status = ie.step(s, 1.0 / 60);
     CHECK(status.error == StepError::NoConvergence);
