@@ -1,0 +1,198 @@
+#include <catch2/catch.hpp>
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/osmesa.h>
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "drape/core/cloth.hpp"
+#include "drape/io/atomic_file.hpp"
+#include "drape/viewer/camera.hpp"
+#include "drape/viewer/cloth_renderer.hpp"
+#include "drape/viewer/offscreen_context.hpp"
+#include "drape/viewer/png.hpp"
+
+namespace fs = std::filesystem;
+using namespace drape::viewer;
+
+namespace {
+
+constexpr int width = 64, height = 48;
+
+drape::ClothSpec<double> small_cloth() {
+  drape::ClothSpec<double> spec;
+  spec.nx = 9;
+  spec.ny = 9;
+  return spec;
+}
+
+/// The flat grid bent into a dome: normals vary, so a Lambert shader must give many shades.
+drape::Matrix3X<double> dome(const drape::Cloth<double>& cloth, double height_m) {
+  drape::Matrix3X<double> x = cloth.grid().rest_positions();
+  const double w = (cloth.grid().nx() - 1) * cloth.grid().spacing();
+  for (drape::Index i = 0; i < x.cols(); ++i)
+    x(1, i) = height_m * std::sin(M_PI * x(0, i) / w) * std::sin(M_PI * x(2, i) / w);
+  return x;
+}
+
+RenderSettings plain_settings() {
+  RenderSettings rs;
+  rs.width = width;
+  rs.height = height;
+  rs.floor = false;    // every non-background pixel is cloth
+  rs.pattern = false;  // shading only from the lighting
+  return rs;
+}
+
+struct Counts {
+  int cloth = 0, front = 0, back = 0;
+  std::set<int> shades;  // distinct luminances of cloth pixels
+};
+
+Counts classify(const Image& img, const RenderSettings& rs) {
+  Counts c;
+  const int bg[3] = {int(std::lround(rs.background.x() * 255)), int(std::lround(rs.background.y() * 255)),
+                     int(std::lround(rs.background.z() * 255))};
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const std::uint8_t* p = img.pixel(x, y);
+      if (std::abs(p[0] - bg[0]) + std::abs(p[1] - bg[1]) + std::abs(p[2] - bg[2]) <= 6) continue;
+      ++c.cloth;
+      if (p[0] > p[2] + 10) ++c.front;  // front colour is red-dominant
+      if (p[2] > p[0] + 10) ++c.back;   // back colour is blue-dominant
+      c.shades.insert((299 * p[0] + 587 * p[1] + 114 * p[2]) / 1000);
+    }
+  return c;
+}
+
+Image render(ClothRenderer& r, const drape::Cloth<double>& cloth, const drape::Matrix3X<double>& x, float elevation) {
+  Bounds b;
+  for (drape::Index i = 0; i < x.cols(); ++i) b.extend(x.col(i).cast<float>());
+  r.set_camera(frame_bounds(b, float(width) / float(height), 30.0f, elevation));
+  r.update_positions(x);
+  (void)cloth;
+  return r.render();
+}
+
+struct DebugLog {
+  std::vector<std::string> errors, all;
+  GlDebugSink sink() {
+    return [this](const std::string& severity, const std::string& type, const std::string& text) {
+      all.push_back(severity + " " + type + " " + text);
+      if (type == "error") errors.push_back(text);
+    };
+  }
+};
+
+}  // namespace
+
+TEST_CASE("offscreen render: cloth present, shaded, front from above and back from below", "[viewer]") {
+  DebugLog log;
+  OffscreenContext context(log.sink());
+  REQUIRE(context.version().find("Core Profile") != std::string::npos);
+  const drape::Cloth<double> cloth(small_cloth());
+  const RenderSettings rs = plain_settings();
+  ClothRenderer renderer(cloth.grid().nx(), cloth.grid().ny(), cloth.grid().triangles(), rs);
+  const drape::Matrix3X<double> x = dome(cloth, 0.3);
+
+  const Counts above = classify(render(renderer, cloth, x, 40.0f), rs);
+  INFO("above: cloth " << above.cloth << " front " << above.front << " back " << above.back << " shades "
+                       << above.shades.size());
+  REQUIRE(above.cloth > width * height / 10);  // the camera frames it: a good part of the image
+  REQUIRE(above.front > 0.9 * above.cloth);   // the top side, in the front colour
+  REQUIRE(above.shades.size() >= 15);         // Lambert shading, not one flat colour
+
+  const Counts below = classify(render(renderer, cloth, x, -40.0f), rs);
+  INFO("below: cloth " << below.cloth << " front " << below.front << " back " << below.back << " shades "
+                       << below.shades.size());
+  REQUIRE(below.cloth > width * height / 10);  // visible from below: no face culling
+  REQUIRE(below.back > 0.9 * below.cloth);     // the underside, in the back colour, lit too
+  REQUIRE(below.shades.size() >= 15);
+  REQUIRE(log.errors.empty());  // the renderer itself raises no GL errors
+}
+
+TEST_CASE("different states give different images, the same state the same image", "[viewer]") {
+  OffscreenContext context;
+  const drape::Cloth<double> cloth(small_cloth());
+  RenderSettings rs = plain_settings();
+  rs.floor = true;
+  rs.pattern = true;
+  ClothRenderer renderer(cloth.grid().nx(), cloth.grid().ny(), cloth.grid().triangles(), rs);
+  const drape::Matrix3X<double> flat = cloth.grid().rest_positions();
+  Bounds b;
+  for (drape::Index i = 0; i < flat.cols(); ++i) b.extend(flat.col(i).cast<float>());
+  b.extend(Eigen::Vector3f(0, -0.8f, 0));
+  renderer.set_camera(frame_bounds(b, float(width) / float(height), 30.0f, 25.0f));
+  renderer.update_positions(flat);
+  const Image a = renderer.render();
+  renderer.update_positions(dome(cloth, -0.5));
+  const Image c = renderer.render();
+  renderer.update_positions(flat);
+  const Image a2 = renderer.render();
+  int differing = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); i += 3)
+    differing += a.rgb[i] != c.rgb[i] || a.rgb[i + 1] != c.rgb[i + 1] || a.rgb[i + 2] != c.rgb[i + 2];
+  REQUIRE(differing > width * height / 20);
+  REQUIRE(a.rgb == a2.rgb);  // positions are re-uploaded each frame; nothing else changes
+}
+
+TEST_CASE("--debug-gl: the KHR_debug callback reports GL errors", "[viewer]") {
+  DebugLog log;
+  OffscreenContext context(log.sink());
+  REQUIRE(context.debug_enabled());
+  glBindBuffer(GL_ARRAY_BUFFER, 987654u);  // never generated: GL_INVALID_OPERATION in a core profile
+  REQUIRE(glGetError() == GL_INVALID_OPERATION);
+  INFO("messages: " << log.all.size());
+  REQUIRE(log.errors.size() == 1);
+}
+
+TEST_CASE("PNG frames appear atomically and decode to the rendered pixels", "[viewer]") {
+  const fs::path dir = fs::temp_directory_path() / "drape_test_png_frames";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  Image img;
+  img.width = 37;  // odd width: no row padding assumptions
+  img.height = 11;
+  img.rgb.resize(37 * 11 * 3);
+  for (std::size_t i = 0; i < img.rgb.size(); ++i) img.rgb[i] = static_cast<std::uint8_t>((i * 7919) % 251);
+  for (int k = 0; k < 5; ++k) write_png((dir / ("frame_" + std::to_string(k) + ".png")).string(), img);
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    ++files;
+    const std::string name = entry.path().filename().string();
+    INFO(name);
+    REQUIRE(entry.path().extension() == ".png");  // no temporary names left behind
+    const Image back = read_png(entry.path().string());
+    REQUIRE(back.width == img.width);
+    REQUIRE(back.height == img.height);
+    REQUIRE(back.rgb == img.rgb);
+  }
+  REQUIRE(files == 5);
+
+  SECTION("a folder that does not exist: a clear error, no file") {
+    const std::string path = (dir / "missing" / "frame.png").string();
+    REQUIRE_THROWS_AS(write_png(path, img), drape::FileWriteError);
+    REQUIRE_THROWS_WITH(write_png(path, img), Catch::Contains("missing/frame.png"));
+    REQUIRE(!fs::exists(path));
+  }
+  SECTION("the temporary file cannot be created: a clear error, no file") {
+    // A directory where the temporary file should go cannot be opened as a file.
+    fs::create_directories(dir / "frame_x.png.tmp");
+    REQUIRE_THROWS_AS(write_png((dir / "frame_x.png").string(), img), drape::FileWriteError);
+    REQUIRE(!fs::exists(dir / "frame_x.png"));
+  }
+  SECTION("not a PNG: read_png names the file") {
+    std::FILE* f = std::fopen((dir / "junk.png").string().c_str(), "wb");
+    std::fputs("not a png", f);
+    std::fclose(f);
+    REQUIRE_THROWS_WITH(read_png((dir / "junk.png").string()), Catch::Contains("junk.png"));
+  }
+  fs::remove_all(dir);
+}
