@@ -2,6 +2,7 @@
 
 #include <png.h>
 
+#include <csetjmp>
 #include <cstring>
 #include <stdexcept>
 
@@ -9,23 +10,41 @@
 
 namespace drape::viewer {
 
+namespace {
+
+// libpng reports errors by longjmp; this function holds no C++ objects with destructors, so the
+// jump is safe. Returns false on any libpng or stdio error (e.g. ENOSPC).
+bool encode_png(std::FILE* file, const Image& image, int compression_level) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  if (!png) return false;
+  png_infop info = png_create_info_struct(png);
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  png_init_io(png, file);
+  // Fast settings: level 3 with the "up" and "paeth" filters is ~3x faster than libpng's
+  // defaults on rendered frames for a few percent larger files.
+  png_set_compression_level(png, compression_level);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP | PNG_FILTER_PAETH);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
+               PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
+  png_write_info(png, info);
+  const std::size_t stride = static_cast<std::size_t>(image.width) * 3;
+  for (int y = 0; y < image.height; ++y)
+    png_write_row(png, const_cast<png_bytep>(image.rgb.data() + static_cast<std::size_t>(y) * stride));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+}  // namespace
+
 void write_png(const std::string& path, const Image& image) {
   if (image.width <= 0 || image.height <= 0 ||
       image.rgb.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3)
     throw std::invalid_argument("write_png('" + path + "'): image size and pixel buffer disagree");
-  write_file_atomically(path, [&](std::FILE* file) {
-    png_image png;
-    std::memset(&png, 0, sizeof png);
-    png.version = PNG_IMAGE_VERSION;
-    png.width = static_cast<png_uint_32>(image.width);
-    png.height = static_cast<png_uint_32>(image.height);
-    png.format = PNG_FORMAT_RGB;
-    // Returns 0 on any libpng or stdio error (e.g. ENOSPC); write_file_atomically then removes
-    // the temporary file and reports the error.
-    const int ok = png_image_write_to_stdio(&png, file, 0, image.rgb.data(), 0, nullptr);
-    png_image_free(&png);
-    return ok != 0;
-  });
+  write_file_atomically(path, [&](std::FILE* file) { return encode_png(file, image, 3); });
 }
 
 Image read_png(const std::string& path) {
