@@ -209,8 +209,8 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   bind("bend-ks", s.bend_ks, "bend stiffness in N/m, >= 0", sim);
   bind("bend-kd", s.bend_kd, "bend damping in N s/m, >= 0", sim);
   bind("boundary", s.boundary, "1: corner (0,0) pinned; 2: corners (0,0) and (nx-1,0) pinned", sim);
-  CLI::Option* pins = bind("pins", s.pins, "pinned node ids (id = j*nx + i), replaces --boundary; may be empty", sim);
-  pins->expected(0, 1 << 30);
+  CLI::Option* pins = bind("pins", s.pins, "pinned node ids (id = j*nx + i), replaces --boundary (scene file: pins = [] pins nothing)", sim);
+  pins->expected(1, 1 << 30);
   bind("nx", s.nx, "nodes along x, [2, 10000]", sim);
   bind("ny", s.ny, "nodes along z, [2, 10000]", sim);
   bind("spacing", s.spacing, "rest distance between neighbours in m, > 0", sim);
