@@ -100,6 +100,15 @@ JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, PinTrea
     }
   }
   m_pattern = BlockSparseMatrix<Scalar>(std::move(columns));
+  // Edge form (block_sparse_matrix.hpp): one edge per spring, in the springs' colours.
+  std::vector<int> edge_rows(2 * static_cast<std::size_t>(sp.size()));
+  for (int s = 0; s < sp.size(); ++s) {
+    edge_rows[2 * static_cast<std::size_t>(s)] = m_row_of_node[static_cast<std::size_t>(sp.a()[s])];
+    edge_rows[2 * static_cast<std::size_t>(s) + 1] = m_row_of_node[static_cast<std::size_t>(sp.b()[s])];
+  }
+  std::vector<Scalar> row_mass(m_node_of_row.size());
+  for (std::size_t r = 0; r < m_node_of_row.size(); ++r) row_mass[r] = cloth.grid().masses()[m_node_of_row[r]];
+  m_pattern.set_edge_form(std::move(edge_rows), sp.colour_begin(), std::move(row_mass));
   m_slots.resize(static_cast<std::size_t>(sp.size()));
   for (int s = 0; s < sp.size(); ++s) {
     const int ra = m_row_of_node[static_cast<std::size_t>(sp.a()[s])], rb = m_row_of_node[static_cast<std::size_t>(sp.b()[s])];
@@ -157,6 +166,7 @@ void JacobianAssembler<Scalar>::assemble_system(const Matrix3X<Scalar>& x, const
   const Scalar* ks = sp.stiffness().data();
   const Scalar* kd = sp.damping().data();
   const Scalar dt2 = dt * dt;
+  const bool has_edges = a.edge_count() == sp.size();
   for_each_spring([&](int s) {
     const std::array<int, 6>& slot = m_slots[static_cast<std::size_t>(s)];
     const Vec3<Scalar> va = v.col(ia[s]), vb = v.col(ib[s]);
@@ -170,7 +180,9 @@ void JacobianAssembler<Scalar>::assemble_system(const Matrix3X<Scalar>& x, const
     if (slot[3] >= 0) a.block(slot[3]) += c;
     if (slot[4] >= 0) a.block(slot[4]) -= c;
     if (slot[5] >= 0) a.block(slot[5]) -= c;
+    if (has_edges) a.edge_block(s) = c;
   });
+  if (has_edges) a.mark_edge_form_valid();
 }
 
 template <class Scalar>
