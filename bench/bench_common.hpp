@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
@@ -78,20 +79,27 @@ inline const Scene& scene(int n) {
 }
 
 /// Names are `family/key=value/.../n:N/threads:T`; scripts/bench_report.py parses them.
-/// Adds the grid sizes (and thread counts 1 and 2 if `threaded`) as arguments.
-inline benchmark::internal::Benchmark* sized(benchmark::internal::Benchmark* b, bool threaded, benchmark::TimeUnit unit,
-                                             double min_time = 0.1) {
-  b->Unit(unit)->MinTime(min_time);
-  if (threaded) {
+/// Adds the grid sizes up to `max_n` as arguments, each with the thread counts `threads`
+/// (empty: not a threaded benchmark, no thread argument).
+inline benchmark::internal::Benchmark* sized(benchmark::internal::Benchmark* b, const std::vector<int>& threads,
+                                             benchmark::TimeUnit unit, int max_n = 257) {
+  b->Unit(unit)->MinTime(0.1);
+  if (!threads.empty()) {
     b->ArgNames({"n", "threads"});
     for (int n : grid_sizes)
-      for (int t : {1, 2}) b->Args({n, t});
+      for (int t : threads)
+        if (n <= max_n) b->Args({n, t});
   } else {
     b->ArgNames({"n"});
-    for (int n : grid_sizes) b->Args({n});
+    for (int n : grid_sizes)
+      if (n <= max_n) b->Args({n});
   }
   return b;
 }
+/// Thread-count sets for sized().
+inline const std::vector<int> serial = {};
+inline const std::vector<int> one_and_two = {1, 2};
+inline const std::vector<int> two = {2};
 
 /// Runs `step(state)` once per benchmark iteration from the scene's warm state, resetting to it
 /// every `window` steps outside the timer, and records solver counters:

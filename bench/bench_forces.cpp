@@ -51,10 +51,10 @@ void rk2_step_baseline(benchmark::State& st) {
 }
 
 const bool registered = [] {
-  sized(benchmark::RegisterBenchmark("force_assembly/impl=drape", force_assembly_drape), true, benchmark::kMicrosecond);
-  sized(benchmark::RegisterBenchmark("force_assembly/impl=baseline", force_assembly_baseline), false, benchmark::kMicrosecond);
-  sized(benchmark::RegisterBenchmark("rk2_step/impl=drape", rk2_step_drape), true, benchmark::kMicrosecond);
-  sized(benchmark::RegisterBenchmark("rk2_step/impl=baseline", rk2_step_baseline), false, benchmark::kMicrosecond);
+  sized(benchmark::RegisterBenchmark("force_assembly/impl=drape", force_assembly_drape), one_and_two, benchmark::kMicrosecond);
+  sized(benchmark::RegisterBenchmark("force_assembly/impl=baseline", force_assembly_baseline), serial, benchmark::kMicrosecond);
+  sized(benchmark::RegisterBenchmark("rk2_step/impl=drape", rk2_step_drape), one_and_two, benchmark::kMicrosecond);
+  sized(benchmark::RegisterBenchmark("rk2_step/impl=baseline", rk2_step_baseline), serial, benchmark::kMicrosecond);
   return true;
 }();
 

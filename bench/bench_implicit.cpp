@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <utility>
 #include <sstream>
 
 #include "baseline.hpp"
@@ -26,18 +28,32 @@ struct TimeStep {
 };
 constexpr TimeStep time_steps[] = {{"0.01", 0.01}, {"1_60", 1.0 / 60.0}};
 
-/// Solver and Jacobian variant pairs of the implicit-step family: each iterative solver with the
-/// variants it can take that matter, each direct solver with its natural variant (a direct
-/// solver's cost does not depend on the values).
-struct Combo {
+/// What the implicit-step family runs. The default (cg, Spd) gets both time steps and 1 and 2
+/// threads; the other solvers and variants run at dt = 1/60 on 2 threads for comparison. Eigen's
+/// simplicial LDLT and SparseLU stop at 65 x 65 and UMFPACK at 129 x 129: one of their steps takes
+/// tens of seconds at 257 x 257 (measured: a 257 x 257 solve took 27 s with either), which would
+/// make the suite run for an hour without telling anything new.
+struct StepPlan {
   const char* solver;
   JacobianVariant jacobian;
+  bool both_time_steps;
+  const std::vector<int>* threads;
+  int max_n;
 };
-constexpr Combo step_combos[] = {
-    {"cg", JacobianVariant::Spd},       {"cg", JacobianVariant::Symmetric}, {"bicgstab", JacobianVariant::Spd},
-    {"bicgstab", JacobianVariant::Exact}, {"ldlt", JacobianVariant::Spd},   {"cholmod", JacobianVariant::Spd},
-    {"lu", JacobianVariant::Exact},     {"umfpack", JacobianVariant::Exact},
+const StepPlan step_plans[] = {
+    {"cg", JacobianVariant::Spd, true, &one_and_two, 257},
+    {"cg", JacobianVariant::Symmetric, false, &two, 257},
+    {"bicgstab", JacobianVariant::Spd, false, &two, 257},
+    {"bicgstab", JacobianVariant::Exact, false, &two, 257},
+    {"cholmod", JacobianVariant::Spd, true, &two, 257},
+    {"umfpack", JacobianVariant::Exact, false, &two, 129},
+    {"ldlt", JacobianVariant::Spd, false, &two, 65},
+    {"lu", JacobianVariant::Exact, false, &two, 65},
 };
+/// Largest grid of the direct solvers' linear-solve and set-up benchmarks (see step_plans).
+int max_n_of(const std::string& solver) {
+  return solver == "ldlt" || solver == "lu" ? 65 : solver == "umfpack" ? 129 : 257;
+}
 
 bool available(const std::string& solver) {
   const std::vector<std::string> names = drape::available_solvers();
@@ -99,7 +115,11 @@ struct SolveCase {
   drape::VectorX<double> b, warm_start;
 };
 
-SolveCase solve_case(const Scene& sc, double dt) {
+const SolveCase& solve_case(const Scene& sc, double dt) {
+  static std::map<std::pair<int, double>, SolveCase> cache;  // built once per process
+  const std::pair<int, double> key(sc.cloth->node_count(), dt);
+  auto it = cache.find(key);
+  if (it != cache.end()) return it->second;
   ImplicitEuler<double> integrator(*sc.cloth, ImplicitOptions{});
   drape::State<double> s = sc.warm;
   integrator.step(s, dt);
@@ -108,12 +128,12 @@ SolveCase solve_case(const Scene& sc, double dt) {
   integrator.step(s, dt);
   c.a = integrator.system_matrix();
   c.b = integrator.rhs();
-  return c;
+  return cache.emplace(key, std::move(c)).first->second;
 }
 
 void linear_solve_drape(benchmark::State& st, const std::string& solver, double dt) {
   const Scene& sc = scene(int(st.range(0)));
-  const SolveCase c = solve_case(sc, dt);
+  const SolveCase& c = solve_case(sc, dt);
   drape::IterativeSettings settings;
   settings.tolerance = ImplicitOptions{}.tolerance;
   settings.max_iterations = ImplicitOptions{}.max_iterations;
@@ -185,47 +205,53 @@ void setup_implicit(benchmark::State& st, const std::string& solver) {
 const bool registered = [] {
   using benchmark::RegisterBenchmark;
   const ImplicitOptions defaults;
+  const auto dt_label = [](const TimeStep& ts) { return std::string("/dt=") + ts.label; };
   for (JacobianVariant j : {JacobianVariant::Exact, JacobianVariant::Symmetric, JacobianVariant::Spd})
     sized(RegisterBenchmark(name("jacobian_assembly", "drape", std::string("/jacobian=") + drape::to_string(j)).c_str(),
                             jacobian_assembly_drape, j),
-          true, benchmark::kMillisecond);
-  sized(RegisterBenchmark(name("jacobian_assembly", "baseline").c_str(), jacobian_assembly_baseline), false,
+          one_and_two, benchmark::kMillisecond);
+  sized(RegisterBenchmark(name("jacobian_assembly", "baseline").c_str(), jacobian_assembly_baseline), serial,
         benchmark::kMillisecond);
 
-  for (const std::string solver : {"cg", "bicgstab", "ldlt", "lu", "cholmod", "umfpack"}) {
+  for (const std::string solver : {"cg", "bicgstab", "cholmod", "umfpack", "ldlt", "lu"}) {
     if (!available(solver)) continue;
     for (const TimeStep& ts : time_steps) {
       if (ts.dt != 1.0 / 60.0 && solver != defaults.solver) continue;
-      const std::string rest = "/solver=" + solver + "/jacobian=spd/dt=" + ts.label;
       const double dt = ts.dt;
-      sized(RegisterBenchmark(name("linear_solve", "drape", rest).c_str(), linear_solve_drape, solver, dt),
-            iterative(solver), benchmark::kMillisecond);
+      sized(RegisterBenchmark(name("linear_solve", "drape", "/solver=" + solver + "/jacobian=spd" + dt_label(ts)).c_str(),
+                              linear_solve_drape, solver, dt),
+            iterative(solver) ? one_and_two : two, benchmark::kMillisecond, max_n_of(solver));
     }
   }
+  // The baseline's solve and step take ~30 s at 257 x 257: there only the step at dt = 1/60, once.
   for (const TimeStep& ts : time_steps)
-    sized(RegisterBenchmark(name("linear_solve", "baseline", std::string("/dt=") + ts.label).c_str(),
-                            linear_solve_baseline, ts.dt),
-          false, benchmark::kMillisecond);
+    sized(RegisterBenchmark(name("linear_solve", "baseline", dt_label(ts)).c_str(), linear_solve_baseline, ts.dt),
+          serial, benchmark::kMillisecond, 129);
 
-  for (const Combo& c : step_combos) {
-    if (!available(c.solver)) continue;
+  for (const StepPlan& p : step_plans) {
+    if (!available(p.solver)) continue;
     for (const TimeStep& ts : time_steps) {
-      const std::string rest = std::string("/solver=") + c.solver + "/jacobian=" + drape::to_string(c.jacobian) +
-                               "/dt=" + ts.label;
-      sized(RegisterBenchmark(name("implicit_step", "drape", rest).c_str(), implicit_step_drape,
-                              std::string(c.solver), c.jacobian, ts.dt),
-            true, benchmark::kMillisecond);
+      if (!p.both_time_steps && ts.dt != 1.0 / 60.0) continue;
+      const std::string rest = std::string("/solver=") + p.solver + "/jacobian=" + drape::to_string(p.jacobian) + dt_label(ts);
+      sized(RegisterBenchmark(name("implicit_step", "drape", rest).c_str(), implicit_step_drape, std::string(p.solver),
+                              p.jacobian, ts.dt),
+            *p.threads, benchmark::kMillisecond, p.max_n);
     }
   }
   for (const TimeStep& ts : time_steps)
-    sized(RegisterBenchmark(name("implicit_step", "baseline", std::string("/dt=") + ts.label).c_str(),
-                            implicit_step_baseline, ts.dt),
-          false, benchmark::kMillisecond);
+    sized(RegisterBenchmark(name("implicit_step", "baseline", dt_label(ts)).c_str(), implicit_step_baseline, ts.dt),
+          serial, benchmark::kMillisecond, 129);
+  RegisterBenchmark(name("implicit_step", "baseline", "/dt=1_60").c_str(), implicit_step_baseline, 1.0 / 60.0)
+      ->ArgNames({"n"})
+      ->Args({257})
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(1)
+      ->Repetitions(1);
 
-  for (const std::string solver : {"cg", "bicgstab", "ldlt", "lu", "cholmod", "umfpack"})
+  for (const std::string solver : {"cg", "bicgstab", "cholmod", "umfpack", "ldlt", "lu"})
     if (available(solver))
-      sized(RegisterBenchmark(("setup/what=cloth+implicit/solver=" + solver).c_str(), setup_implicit, solver), false,
-            benchmark::kMillisecond);
+      sized(RegisterBenchmark(("setup/what=cloth+implicit/solver=" + solver).c_str(), setup_implicit, solver), serial,
+            benchmark::kMillisecond, max_n_of(solver));
   return true;
 }();
 

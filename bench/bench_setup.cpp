@@ -28,8 +28,8 @@ void setup_rk2(benchmark::State& st) {
 }
 
 const bool registered = [] {
-  sized(benchmark::RegisterBenchmark("setup/what=cloth", setup_cloth), false, benchmark::kMillisecond);
-  sized(benchmark::RegisterBenchmark("setup/what=cloth+rk2", setup_rk2), false, benchmark::kMillisecond);
+  sized(benchmark::RegisterBenchmark("setup/what=cloth", setup_cloth), serial, benchmark::kMillisecond);
+  sized(benchmark::RegisterBenchmark("setup/what=cloth+rk2", setup_rk2), serial, benchmark::kMillisecond);
   return true;
 }();
 

@@ -68,7 +68,7 @@ class Result:
         return tuple((k, self.attrs[k]) for k in keys)
 
 
-COUNTER_KEYS = ("cg_iterations", "residual_max", "failures", "compressed", "threads_used", "nodes", "agreement")
+COUNTER_KEYS = ("bytes_per_second", "cg_iterations", "residual_max", "failures", "compressed", "threads_used", "nodes", "agreement")
 
 
 def load_results(path):
@@ -93,7 +93,7 @@ def load_results(path):
         r = results[run_name]
         if not r.times_ms and "median" in agg:
             r.times_ms.append(agg["median"])
-    return doc.get("context", {}), [r for r in results.values() if r.times_ms]
+    return doc.get("context", {}), [r for r in results.values() if r.times_ms and ("n" in r.attrs or r.family == "machine")]
 
 
 # ---- helpers ---------------------------------------------------------------------------------------
@@ -123,7 +123,7 @@ def fmt_time(ms):
 def fmt_ratio(x):
     if x is None:
         return "-"
-    return f"{x:.1f}x" if x < 100 else f"{x:.0f}x"
+    return f"{x:.2f}x" if x < 0.1 else f"{x:.1f}x" if x < 100 else f"{x:.0f}x"
 
 
 def fit_exponent(points):
@@ -144,7 +144,7 @@ def method_label(method):
         if k in d:
             parts.append(d[k])
     if "dt" in d:
-        parts.append(f"dt={d['dt']}")
+        parts.append(f"dt={d['dt'].replace('_', '/')}")
     if "threads" in d:
         parts.append(f"{d['threads']} thr")
     return " ".join(parts)
@@ -266,6 +266,8 @@ def speedup_table(results):
             for r2 in group:
                 r1 = one(results, family, n=r2.n, **one_thread)
                 cells.append((r2.n, r1.median_ms / r2.median_ms if r1 else None))
+            if all(c is None for _, c in cells):
+                continue
             rows.append((f"{FAMILY_TEXT[family][0]}: {method_label(m).replace(' 2 thr', '')}", cells))
     if not rows:
         return []
@@ -362,8 +364,6 @@ def write_plot(results, context, path):
                 continue
             if d.get("impl") == "drape" and d.get("threads") != "2":
                 continue
-            if family == "implicit_step" and d.get("impl") == "drape" and d.get("jacobian") != context.get("default_jacobian"):
-                continue
             label = ("RK2 " if family == "rk2_step" else "implicit ") + method_label(m)
             if d.get("solver") == default_solver and d.get("impl") == "drape":
                 label += " (default)"
@@ -408,6 +408,11 @@ def main():
                f"{machine.get('cores', context.get('num_cpus', '?'))} cores, "
                f"{machine.get('threads_per_core', '?')} thread(s) per core"
                f"{', ' + machine['hypervisor'] + ' guest' if machine.get('hypervisor') else ''} |")
+    for r in sorted(find(results, "machine", what="stream_triad"), key=lambda r: r.threads):
+        bw = r.counter("bytes_per_second")
+        if bw:
+            out.append(f"| memory bandwidth | {bw / 1e9:.1f} GB/s, STREAM triad on {r.threads} thread(s) "
+                       "(`machine/what=stream_triad` in the JSON) |")
     if machine.get("simd"):
         out.append(f"| SIMD | {machine['simd']} |")
     out.append(f"| caches | L1d {machine.get('l1d', '?')}, L2 {machine.get('l2', '?')}, L3 {machine.get('l3', '?')} |")
