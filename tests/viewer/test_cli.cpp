@@ -255,5 +255,24 @@ TEST_CASE("real-time mode paces the run and logs steps and dropped time per fram
     REQUIRE(v[4] >= 0);   // dropped time
   }
   REQUIRE(rows == 6);
+
+  // Pacing: the driver never runs ahead of factor x wall time (a bound, not a speed measurement).
+  const Result paced = run(small + "--realtime --realtime-factor 2 --duration 0.4 --out " + (dir / "paced").string());
+  INFO(paced.output);
+  REQUIRE(paced.code == 0);
+  std::ifstream log(dir / "paced" / "log.csv");
+  std::getline(log, line);
+  double sim = 0, wall = 0;
+  while (std::getline(log, line)) {
+    std::stringstream ls(line);
+    std::string field;
+    std::vector<double> v;
+    while (std::getline(ls, field, ',')) v.push_back(std::stod(field));
+    sim = v[1];
+    wall = v[2];
+    REQUIRE(sim <= 2.0 * wall + 1e-3);
+  }
+  REQUIRE(sim >= 0.4);  // --duration reached
+  REQUIRE(wall >= 0.2);
   fs::remove_all(dir);
 }
