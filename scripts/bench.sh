@@ -7,7 +7,7 @@
 # Environment:
 #   DRAPE_BENCH_BUILD        build directory            (default build/bench)
 #   DRAPE_BENCH_DATA         directory for the JSON     (default docs/data)
-#   DRAPE_BENCH_REPETITIONS  repetitions per benchmark  (default 5; the report uses their median)
+#   DRAPE_BENCH_REPETITIONS  repetitions per benchmark  (default 3; the report uses their median)
 #   DRAPE_BENCH_QUIET_WAIT   seconds to wait for the 1-minute load average to fall below 0.5 before
 #                            running (default 0). Two-thread timings on a busy 2-core machine
 #                            measure the other processes, not drape.
@@ -15,7 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${DRAPE_BENCH_BUILD:-build/bench}
 data=${DRAPE_BENCH_DATA:-docs/data}
-reps=${DRAPE_BENCH_REPETITIONS:-5}
+reps=${DRAPE_BENCH_REPETITIONS:-3}
 quiet_wait=${DRAPE_BENCH_QUIET_WAIT:-0}
 
 python=python3
