@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "drape/core/cloth.hpp"
+#include "drape/integrators/rk2.hpp"
 #include "drape/io/atomic_file.hpp"
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
@@ -195,4 +196,36 @@ TEST_CASE("PNG frames appear atomically and decode to the rendered pixels", "[vi
     REQUIRE_THROWS_WITH(read_png((dir / "junk.png").string()), Catch::Contains("junk.png"));
   }
   fs::remove_all(dir);
+}
+
+TEST_CASE("the follow camera keeps every node of a falling cloth inside the image", "[viewer][camera]") {
+  drape::ClothSpec<double> spec;
+  spec.nx = 12;
+  spec.ny = 12;
+  spec.spacing = 0.25;
+  for (const drape::BoundaryCondition bc : {drape::BoundaryCondition::OneCorner, drape::BoundaryCondition::TwoCorners}) {
+    spec.boundary = bc;
+    const drape::Cloth<double> cloth(spec);
+    drape::Rk2<double> rk2(cloth, 1);
+    for (const float elevation : {15.0f, -30.0f, 60.0f}) {
+      drape::State<double> s = cloth.initial_state();
+      FollowCamera follow(4.0f / 3.0f, 25.0f, elevation, -10.0f);
+      int checked = 0;
+      for (int frame = 0; frame < 45; ++frame) {  // 1.5 s at 30 fps: the fast fall and swing
+        for (int k = 0; k < 33; ++k) REQUIRE(rk2.step(s, 0.001).ok());
+        const Camera cam = follow.update(s.positions, cloth.pins().nodes(), 0.033);
+        const Eigen::Matrix4f m = cam.projection * cam.view;
+        int outside = 0;
+        for (drape::Index i = 0; i < s.positions.cols(); ++i) {
+          const Eigen::Vector4f c = m * Eigen::Vector4f(float(s.positions(0, i)), float(s.positions(1, i)),
+                                                       float(s.positions(2, i)), 1.0f);
+          outside += !(c.w() > 0 && std::abs(c.x() / c.w()) <= 1.0f && std::abs(c.y() / c.w()) <= 1.0f);
+          ++checked;
+        }
+        INFO("bc " << int(bc) << " elevation " << elevation << " frame " << frame);
+        REQUIRE(outside == 0);
+      }
+      REQUIRE(checked == 45 * 144);
+    }
+  }
 }

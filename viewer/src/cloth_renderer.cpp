@@ -246,7 +246,8 @@ Image ClothRenderer::render() {
   glUniform3fv(uniform(m_program, "u_light"), 1, light.data());
   glUniform1f(uniform(m_program, "u_pattern"), m_settings.pattern ? 0.12f : 0.0f);
 
-  if (m_settings.floor) {
+  // A camera below the floor (negative elevation) would see only the floor's underside: skip it.
+  if (m_settings.floor && cam.eye.y() > cam.floor_height) {
     const float r = 6.0f * cam.scene_radius;
     const float y = cam.floor_height;
     const float cx = cam.target.x(), cz = cam.target.z();

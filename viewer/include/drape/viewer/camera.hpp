@@ -142,9 +142,9 @@ inline Camera frame_bounds(const Bounds& box, float aspect, float azimuth_deg, f
 }
 
 /// A camera that follows the cloth: each frame it aims at the centre of the bounding box of the
-/// current positions and backs off until every node (and pin) is in the image with a margin.
-/// Aim and distance are smoothed with time constant `smoothing` (s of simulated time) so the view
-/// glides instead of jumping. The floor stays at a fixed height (below the lowest point the cloth
+/// current positions (smoothed with time constant `smoothing`, s of simulated time, so the view
+/// glides) and backs off until every node is in the image with a margin (at once when it must
+/// back off, smoothed when it can come closer), so the cloth is never cut off. The floor stays at a fixed height (below the lowest point the cloth
 /// can hang to), so the cloth's motion still reads against it.
 class FollowCamera {
  public:
@@ -160,22 +160,20 @@ class FollowCamera {
     Bounds b;
     for (Index i = 0; i < positions.cols(); ++i) b.extend(positions.col(i).template cast<float>());
     (void)pins;  // pins are nodes, so already inside
-    const Eigen::Vector3f target = b.centre();
+    const float a = (!m_started || m_smoothing <= 0)
+                        ? 1.0f
+                        : 1.0f - std::exp(-float(std::max(elapsed, 0.0)) / m_smoothing);
+    m_target = m_started ? Eigen::Vector3f(m_target + a * (b.centre() - m_target)) : b.centre();
+    // The distance that fits every node around the (smoothed) aim: backing off is immediate so
+    // the cloth never leaves the image; moving in is smoothed.
     const float ty = std::tan(0.5f * m_fov * deg) / (1.0f + m_margin), tx = ty * m_aspect;
-    float dist = 0;
+    float need = 0;
     for (Index i = 0; i < positions.cols(); ++i)
-      dist = std::max(dist, fit_distance(positions.col(i).template cast<float>(), target, m_view, tx, ty));
+      need = std::max(need, fit_distance(positions.col(i).template cast<float>(), m_target, m_view, tx, ty));
     // A cloth seen exactly edge-on has no extent on screen; keep a sensible minimum distance.
-    dist = std::max(dist, 0.3f * b.size().norm() / std::tan(0.5f * m_fov * deg));
-    if (!m_started || m_smoothing <= 0) {
-      m_target = target;
-      m_dist = dist;
-      m_started = true;
-    } else {
-      const float a = 1.0f - std::exp(-float(std::max(elapsed, 0.0)) / m_smoothing);
-      m_target += a * (target - m_target);
-      m_dist += a * (dist - m_dist);
-    }
+    need = std::max(need, 0.3f * b.size().norm() / std::tan(0.5f * m_fov * deg));
+    m_dist = (!m_started || need > m_dist) ? need : m_dist + a * (need - m_dist);
+    m_started = true;
     Camera cam = look_at(m_target, m_dist, 0.5f * b.size().norm(), m_view, m_aspect, m_fov);
     cam.floor_height = m_floor;
     return cam;
