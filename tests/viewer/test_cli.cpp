@@ -276,3 +276,26 @@ TEST_CASE("real-time mode paces the run and logs steps and dropped time per fram
   REQUIRE(wall >= 0.2);
   fs::remove_all(dir);
 }
+
+TEST_CASE("--video assembles the frames with ffmpeg when it is installed", "[cli]") {
+  bool have_ffmpeg = false;
+  if (const char* path = std::getenv("PATH")) {
+    std::stringstream dirs(path);
+    std::string d;
+    while (std::getline(dirs, d, ':')) have_ffmpeg = have_ffmpeg || fs::exists(fs::path(d) / "ffmpeg");
+  }
+  const fs::path dir = fresh_dir("video");
+  const Result r = run(small + "--frames 4 --out " + (dir / "out").string() + " --video " + (dir / "cloth.gif").string());
+  INFO(r.output);
+  if (have_ffmpeg) {
+    REQUIRE(r.code == 0);
+    REQUIRE(fs::file_size(dir / "cloth.gif") > 100);
+  } else {
+    REQUIRE(r.code == 2);  // refused before any work
+    REQUIRE_THAT(r.output, Catch::Contains("--video needs ffmpeg"));
+  }
+  const Result bad = run(small + "--frames 2 --out " + (dir / "out").string() + " --video " + (dir / "cloth.avi").string());
+  REQUIRE(bad.code == 2);
+  REQUIRE_THAT(bad.output, Catch::Contains("--video") && Catch::Contains(".mp4"));
+  fs::remove_all(dir);
+}

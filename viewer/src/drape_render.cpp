@@ -114,7 +114,7 @@ bool make_video(const Settings& s, int frames_written) {
   const std::string ext = s.video.substr(s.video.rfind('.'));
   char fps[32];
   std::snprintf(fps, sizeof fps, "%.6g", 1.0 / s.frame_time);
-  std::vector<std::string> args = {"ffmpeg", "-y", "-loglevel", "error", "-framerate", fps,
+  std::vector<std::string> args = {"ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", fps,
                                    "-i", s.out + "/frame_%05d.png", "-frames:v", std::to_string(frames_written)};
   if (ext == ".gif") {
     args.insert(args.end(), {"-vf", "split[a][b];[a]palettegen[p];[b][p]paletteuse"});
