@@ -12,12 +12,15 @@
 /// result) returns the reason and leaves the state unchanged. After the first step, `step()`
 /// performs no heap allocation with the iterative solvers (tested).
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 
 #include "drape/core/cloth.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/integrators/step_status.hpp"
+#include "drape/physics/force_assembler.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
 #include "drape/physics/spring_jacobian.hpp"
 #include "drape/solvers/solver_registry.hpp"
@@ -36,6 +39,12 @@ struct ImplicitOptions {
   int max_iterations = 2000;   ///< iteration cap of iterative solvers
   int threads = 0;             ///< 0 = all available
   PinTreatment pins = PinTreatment::Eliminate;
+  /// 1 = the brief's single linearised step. More = Newton iterations on the nonlinear backward
+  /// Euler equations \f$ M \Delta v = \Delta t\, f(x + \Delta t (v + \Delta v), v + \Delta v) \f$,
+  /// starting from the linearised step; stops early when the residual is below
+  /// `newton_tolerance` times \f$ |\Delta t\, f(x_t, v_t)| \f$.
+  int newton_iterations = 1;
+  double newton_tolerance = 1e-6;
 
   /// \throws std::invalid_argument naming the first invalid option (unknown solver, a solver this
   /// build lacks, tolerance not in (0, 1), max_iterations < 1, threads < 0, Exact Jacobian with a
@@ -61,6 +70,10 @@ class ImplicitEuler {
   const BlockSparseMatrix<Scalar>& system_matrix() const { return m_a; }
   const VectorX<Scalar>& rhs() const { return m_rhs; }
   const VectorX<Scalar>& dv() const { return m_dv; }
+  /// Newton iterations of the last step (1 without newton_iterations > 1) and its final
+  /// relative residual |M dv - dt f(x+, v+)| / |dt f(x, v)| (0 if not computed).
+  int newton_iterations_done() const { return m_newton_done; }
+  double newton_residual() const { return m_newton_residual; }
   LinearSolver<Scalar>& solver() { return *m_solver; }
 
  private:
@@ -70,6 +83,17 @@ class ImplicitEuler {
   BlockSparseMatrix<Scalar> m_a;
   VectorX<Scalar> m_rhs, m_dv;
   Matrix3X<Scalar> m_x_new, m_v_new;
+  // Newton iterations only
+  ForceAssembler<Scalar> m_forces;
+  Matrix3X<Scalar> m_f;
+  VectorX<Scalar> m_g, m_delta;
+  int m_newton_done = 0;
+  double m_newton_residual = 0;
+
+  /// x+ = x + dt (v + dv), v+ = v + dv into m_x_new, m_v_new (pinned nodes fixed).
+  void advance(const State<Scalar>& state, Scalar dt);
+  /// g = M dv - dt f(m_x_new, m_v_new) on the system rows; returns |g|.
+  double nonlinear_residual(Scalar dt);
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -80,6 +104,9 @@ inline void ImplicitOptions::validate() const {
     detail::fail_argument("tolerance", detail::to_text(tolerance), "finite, > 0 and < 1");
   detail::require_at_least("max_iterations", max_iterations, 1);
   detail::require_at_least("threads", threads, 0);
+  detail::require_at_least("newton_iterations", newton_iterations, 1);
+  if (!(std::isfinite(newton_tolerance) && newton_tolerance > 0))
+    detail::fail_argument("newton_tolerance", detail::to_text(newton_tolerance), "finite and > 0");
   if (jacobian == JacobianVariant::Exact && solver_requires_symmetric(solver))
     detail::fail_argument("solver", "'" + solver + "' with jacobian = exact",
                           "a non-symmetric solver for the Exact Jacobian: bicgstab, lu or umfpack");
@@ -90,7 +117,9 @@ inline void ImplicitOptions::validate() const {
 
 template <class Scalar>
 ImplicitEuler<Scalar>::ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options)
-    : m_options((options.validate(), options)), m_assembler(cloth, options.pins, options.threads) {
+    : m_options((options.validate(), options)),
+      m_assembler(cloth, options.pins, options.threads),
+      m_forces(cloth, options.threads) {
   IterativeSettings settings;
   settings.tolerance = options.tolerance;
   settings.max_iterations = options.max_iterations;
@@ -102,6 +131,38 @@ ImplicitEuler<Scalar>::ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitO
   m_x_new.resize(3, cloth.node_count());
   m_v_new.resize(3, cloth.node_count());
   m_solver->analyze(m_a);  // symbolic work once per cloth
+  if (options.newton_iterations > 1) {
+    m_f.resize(3, cloth.node_count());
+    m_g.setZero(m_a.size());
+    m_delta.setZero(m_a.size());
+  }
+}
+
+template <class Scalar>
+void ImplicitEuler<Scalar>::advance(const State<Scalar>& state, Scalar dt) {
+  m_v_new = state.velocities;
+  const std::vector<int>& node_of_row = m_assembler.node_of_row();
+  for (std::size_t r = 0; r < node_of_row.size(); ++r)
+    m_v_new.col(node_of_row[r]) += m_dv.template segment<3>(3 * static_cast<Index>(r));
+  for (int p : cloth().pins().nodes()) m_v_new.col(p).setZero();
+  m_x_new = state.positions + dt * m_v_new;
+  for (int p : cloth().pins().nodes()) m_x_new.col(p) = state.positions.col(p);
+}
+
+template <class Scalar>
+double ImplicitEuler<Scalar>::nonlinear_residual(Scalar dt) {
+  m_forces.force(m_x_new, m_v_new, m_f);
+  const std::vector<int>& node_of_row = m_assembler.node_of_row();
+  const VectorX<Scalar>& masses = cloth().grid().masses();
+  double g2 = 0;
+  for (std::size_t r = 0; r < node_of_row.size(); ++r) {
+    const int node = node_of_row[r];
+    const Index i = 3 * static_cast<Index>(r);
+    m_g.template segment<3>(i) = masses[node] * m_dv.template segment<3>(i) - dt * m_f.col(node);
+    if (m_assembler.filter()[r]) m_g.template segment<3>(i).setZero();
+    g2 += double(m_g.template segment<3>(i).squaredNorm());
+  }
+  return std::sqrt(g2);
 }
 
 template <class Scalar>
@@ -121,13 +182,42 @@ StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state, Scalar dt) {
     return status;
   }
   // v+ = v + dv on free nodes, 0 on pinned ones; x+ = x + dt v+ (pinned nodes stay put).
-  m_v_new = state.velocities;
-  const std::vector<int>& node_of_row = m_assembler.node_of_row();
-  for (std::size_t r = 0; r < node_of_row.size(); ++r)
-    m_v_new.col(node_of_row[r]) += m_dv.template segment<3>(3 * static_cast<Index>(r));
-  for (int p : cloth().pins().nodes()) m_v_new.col(p).setZero();
-  m_x_new = state.positions + dt * m_v_new;
-  for (int p : cloth().pins().nodes()) m_x_new.col(p) = state.positions.col(p);
+  advance(state, dt);
+  m_newton_done = 1;
+  m_newton_residual = 0;
+  if (m_options.newton_iterations > 1) {
+    // Newton on g(dv) = M dv - dt f(x + dt (v + dv), v + dv) = 0, whose Jacobian is the system
+    // matrix assembled at the current iterate. Scale: |dt f(x_t, v_t)|.
+    m_forces.force(state.positions, state.velocities, m_f);
+    double scale = 0;
+    for (std::size_t r = 0; r < m_assembler.node_of_row().size(); ++r)
+      if (!m_assembler.filter()[r]) scale += double(m_f.col(m_assembler.node_of_row()[r]).squaredNorm());
+    scale = std::max(double(dt) * std::sqrt(scale), 1e-300);
+    double g = nonlinear_residual(dt);
+    m_newton_residual = g / scale;
+    while (m_newton_done < m_options.newton_iterations && m_newton_residual > m_options.newton_tolerance) {
+      m_assembler.assemble_system(m_x_new, m_v_new, dt, m_options.jacobian, m_a, m_rhs);
+      m_rhs = -m_g;
+      m_delta.setZero();
+      const StepStatus inner = m_solver->solve(m_a, m_rhs, m_delta, filter);
+      if (!inner.ok() || !m_delta.allFinite()) {
+        m_dv.setZero();
+        StepStatus failed = inner;
+        if (failed.ok()) failed.error = StepError::NonFiniteState;
+        return failed;
+      }
+      status.iterations += inner.iterations;
+      m_dv += m_delta;
+      advance(state, dt);
+      g = nonlinear_residual(dt);
+      m_newton_residual = g / scale;
+      ++m_newton_done;
+    }
+    if (m_newton_residual > m_options.newton_tolerance) {
+      m_dv.setZero();
+      return {StepError::NoConvergence, status.iterations, m_newton_residual};
+    }
+  }
   if (!(m_x_new.allFinite() && m_v_new.allFinite())) {
     m_dv.setZero();
     status.error = StepError::NonFiniteState;
