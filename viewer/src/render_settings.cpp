@@ -221,7 +221,7 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
 
   const char* time = "Time line";
   CLI::Option* frames = bind("frames", s.frames, "frames to render, [1, 10000000]", time);
-  CLI::Option* duration = bind("duration", s.duration, "simulated seconds to render instead of --frames, > 0", time);
+  CLI::Option* duration = bind("duration", s.duration, "simulated seconds to render instead of --frames, > 0 (unset: use --frames)", time);
   bind("frame-time", s.frame_time, "simulated seconds per frame, (0, 10]", time);
   bind("realtime", s.realtime, "pace the simulation against the wall clock (frames render as fast as they can)", time);
   bind("realtime-factor", s.realtime_factor, "realtime: simulated seconds per wall-clock second, (0, 1000]", time);
