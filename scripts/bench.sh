@@ -66,8 +66,9 @@ load_before=$(cat /proc/loadavg)
 # Busy CPU time of the whole machine (USER_HZ ticks) and of this run, to report how much of the
 # machine other processes took while the suite ran.
 cpu_busy() { awk '/^cpu /{ print $2 + $3 + $4 + $7 + $8 + $9 }' /proc/stat; }
-children_cpu() { times | tail -1 | awk '{ gsub("s", "", $1); gsub("s", "", $2); split($1, u, "m"); split($2, s, "m");
-                                          print u[1] * 60 + u[2] + s[1] * 60 + s[2] }'; }
+# CPU seconds of this shell's finished children (cutime + cstime of /proc/$$/stat; a `times` inside
+# $(...) would only see the subshell).
+children_cpu() { awk -v hz="$(getconf CLK_TCK)" '{ sub(/^.*\) /, ""); print ($14 + $15) / hz }' "/proc/$$/stat"; }
 busy_before=$(cpu_busy)
 own_before=$(children_cpu)
 wall_before=$(date +%s.%N)
@@ -119,4 +120,5 @@ json.dump({
 PY
 
 "$python" scripts/bench_report.py --bench "$data/bench.json" --machine "$data/machine.json" \
-  --compile-time "$ct_json" --markdown docs/benchmarks.md --plot docs/images/bench_step_time.png
+  --compile-time "$ct_json" --markdown docs/benchmarks.md --plot docs/images/bench_step_time.png \
+  --notes bench/analysis.md

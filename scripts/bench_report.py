@@ -12,6 +12,7 @@ the repetitions of one run, ratios taken within that run. Benchmark names have t
 import argparse
 import json
 import math
+import os
 import statistics
 from collections import defaultdict
 
@@ -469,7 +470,17 @@ def main():
         out += [context["accuracy"], ""]
 
     target_rows, realtime_note = targets(results, context)
-    out += ["## Targets (issue 5)", "", "| target | goal | measured (median) | status |", "|---|---|---|---|"]
+    out += ["## Targets (issue 5)", ""]
+    share = machine.get("other_processes_cpu_share")
+    load_before = float(machine.get("loadavg_before", "0").split()[0])
+    if (share is not None and share > 0.1) or load_before >= 1.0:
+        used = f"other processes used {share * 100:.0f}% of the machine's CPU time during this run, " if share is not None else ""
+        out += [f"**Warning: the machine was busy: {used}load average {load_before:.1f} before the run and "
+                + " / ".join(machine.get("loadavg_after", "? ? ?").split()[:3]) + " (1 / 5 / 15 min) after it. Wall times, "
+                "and above all two-thread times, are inflated by the load: a thread of drape that is descheduled "
+                "stalls the other at the next barrier. The single-thread CPU times in brackets do not count time "
+                "spent descheduled and are the better estimate of an idle machine.**", ""]
+    out += ["| target | goal | measured (median) | status |", "|---|---|---|---|"]
     out += target_rows
     out.append("")
     if realtime_note:
@@ -501,7 +512,7 @@ def main():
             out.append(f"| `bench/compile_time/{probe}.cpp` | {what.get(probe, probe)} | {t:.2f} s |")
         out.append("")
 
-    if args.notes:
+    if args.notes and os.path.exists(args.notes):
         out += [open(args.notes).read().rstrip(), ""]
 
     out += ["## Reproduce", "", "```sh", "scripts/bench.sh                      # build, run, regenerate this page",
