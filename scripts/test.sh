@@ -3,6 +3,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh test viewer
-cmake --preset release -DDRAPE_BUILD_BENCHMARKS=OFF >/dev/null
+# Explicit ON: render.sh shares this build folder with tests turned off.
+cmake --preset release -DDRAPE_BUILD_TESTS=ON -DDRAPE_BUILD_EXAMPLES=ON -DDRAPE_BUILD_VIEWER=ON \
+  -DDRAPE_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build --preset release
-ctest --preset release -j2
+ctest --preset release -j2 --no-tests=error
