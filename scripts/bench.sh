@@ -7,6 +7,7 @@
 # Environment:
 #   DRAPE_BENCH_BUILD        build directory            (default build/bench)
 #   DRAPE_BENCH_DATA         directory for the JSON     (default docs/data)
+#   DRAPE_BENCH_DOCS         directory for benchmarks.md and images/ (default docs)
 #   DRAPE_BENCH_REPETITIONS  repetitions per benchmark  (default 3; the report uses their median)
 #   DRAPE_BENCH_QUIET_WAIT   seconds to wait for the 1-minute load average to fall below 0.5 before
 #                            running (default 0). Two-thread timings on a busy 2-core machine
@@ -15,6 +16,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${DRAPE_BENCH_BUILD:-build/bench}
 data=${DRAPE_BENCH_DATA:-docs/data}
+docs=${DRAPE_BENCH_DOCS:-docs}
 reps=${DRAPE_BENCH_REPETITIONS:-3}
 quiet_wait=${DRAPE_BENCH_QUIET_WAIT:-0}
 
@@ -27,7 +29,7 @@ scripts/install-deps.sh bench
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DDRAPE_BUILD_BENCHMARKS=ON \
   -DDRAPE_BUILD_TESTS=OFF -DDRAPE_BUILD_EXAMPLES=OFF -DDRAPE_BUILD_VIEWER=OFF >/dev/null
 cmake --build "$build" --target drape_bench
-mkdir -p "$data"
+mkdir -p "$data" "$docs/images"
 
 # ---- compile time of a translation unit that includes the umbrella header (best of 3) ------------
 cxx=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt")
@@ -120,5 +122,5 @@ json.dump({
 PY
 
 "$python" scripts/bench_report.py --bench "$data/bench.json" --machine "$data/machine.json" \
-  --compile-time "$ct_json" --markdown docs/benchmarks.md --plot docs/images/bench_step_time.png \
+  --compile-time "$ct_json" --markdown "$docs/benchmarks.md" --plot "$docs/images/bench_step_time.png" \
   --notes bench/analysis.md
