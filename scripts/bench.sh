@@ -39,6 +39,7 @@ import json, subprocess, sys, time
 cxx, out, build = sys.argv[1:4]
 flags = ["-std=c++17", "-O3", "-DNDEBUG", "-fopenmp", "-Iinclude", "-isystem", "/usr/include/eigen3"]
 probes = {}
+load_before = float(open("/proc/loadavg").read().split()[0])
 for probe in ("include_only", "typical_use"):
     best = None
     for _ in range(3):
@@ -49,7 +50,7 @@ for probe in ("include_only", "typical_use"):
     probes[probe] = round(best, 3)
 version = subprocess.run([cxx, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
 json.dump({"compiler": version, "command": " ".join([cxx, *flags, "-c", "bench/compile_time/<probe>.cpp"]),
-           "probes": probes}, open(out, "w"), indent=2)
+           "probes": probes, "loadavg_1min_before": load_before}, open(out, "w"), indent=2)
 PY
 echo "bench.sh: compile times -> $ct_json"
 

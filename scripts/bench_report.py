@@ -508,10 +508,12 @@ def main():
     if ct:
         out += ["## Compile time", "",
                 "Wall time to compile one translation unit (best of 3), measured by `scripts/bench.sh` with",
-                "", f"    {ct['command']}", "", f"({ct['compiler']}):", "",
+                "", f"    {ct['command']}", "", f"({ct['compiler']}"
+                + (f"; 1-minute load average {ct['loadavg_1min_before']:.1f} when it started" if "loadavg_1min_before" in ct else "")
+                + "):", "",
                 "| translation unit | what it does | compile time |", "|---|---|---|"]
         what = {"include_only": "`#include <drape/drape.hpp>` and an empty `main`",
-                "typical_use": "the umbrella header plus a cloth, an RK2 step, diagnostics, OBJ export (double)"}
+                "typical_use": "the umbrella header plus a cloth, an RK2 step, an implicit step (default options), diagnostics, OBJ export (double)"}
         for probe, t in ct["probes"].items():
             out.append(f"| `bench/compile_time/{probe}.cpp` | {what.get(probe, probe)} | {t:.2f} s |")
         out.append("")
