@@ -237,6 +237,11 @@ TEST_CASE("a corrupt node count is reported before memory is allocated for it", 
   std::ofstream(bad) << "drape-state 1\nscalar double\nnodes 200000000\ntime 0\n1 2 3 4 5 6\nend\n";
   REQUIRE_THROWS_WITH(load_state<double>(bad),
                       Catch::Contains(bad) && Catch::Contains("declares 200000000 nodes") && Catch::Contains("truncated"));
+  // Found by the CI fuzz run: the same with the file ending right after the time, no newline.
+  std::ofstream(bad, std::ios::trunc) << "drape-state 1\nscalar float\nnodes 51106553\ntime 00";
+  REQUIRE_THROWS_WITH(load_state<double>(bad), Catch::Contains("declares 51106553 nodes") && Catch::Contains("truncated"));
+  std::ofstream(bad, std::ios::trunc) << "drape-state 1\nscalar double\nnodes 1\ntime 0";
+  REQUIRE_THROWS_WITH(load_state<double>(bad), Catch::Contains("declares 1 nodes"));
 #if !defined(DRAPE_TEST_ASAN)  // ASan reserves terabytes of address space: RLIMIT_AS cannot apply
   // In a child limited to 1 GB of address space, the load must end in the format error, not in
   // std::bad_alloc.

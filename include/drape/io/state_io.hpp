@@ -150,12 +150,17 @@ State<Scalar> load_state(const std::string& path, int expected_nodes) {
   const std::string time_text = header("time");
   // Each node line takes at least 12 bytes ("0 0 0 0 0 0\n"): a count the rest of the file cannot
   // hold is a truncated or corrupt file, reported before allocating memory for it.
+  // tellg() is -1 when the header line already reached the end of the file: nothing follows.
   const std::streamoff here = in.tellg();
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(here);
-  if (here >= 0 && size >= here && nodes > (size - here) / 12)
-    fail("declares " + std::to_string(nodes) + " nodes but only " + std::to_string(size - here) +
+  std::streamoff remaining = 0;
+  if (here >= 0) {
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    in.seekg(here);
+    remaining = size >= here ? size - here : 0;
+  }
+  if (nodes > remaining / 12)
+    fail("declares " + std::to_string(nodes) + " nodes but only " + std::to_string(remaining) +
          " bytes follow, too few for them (truncated or corrupt file)");
   if (!detail::parse_scalar(time_text, file_is_float, t)) fail("time is not a number: '" + time_text + "'");
 
