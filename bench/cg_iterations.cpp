@@ -4,10 +4,11 @@
 /// one thread, printing the mean iterations per step over windows [0, 0.25], (0.25, 0.5], ... s.
 /// Shows whether the timed state's iteration count is typical (docs/benchmarks.md).
 ///
-///   build/bench/bench/drape_cg_iterations [N=33] [dt=1/60] [t_end=8]
+///   build/bench/bench/drape_cg_iterations [N=33] [dt=1/60] [t_end=8] [multigrid|block-jacobi]
 
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include "drape/core/cloth.hpp"
 #include "drape/integrators/implicit_euler.hpp"
@@ -16,15 +17,22 @@ int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 33;
   const double dt = argc > 2 ? std::atof(argv[2]) : 1.0 / 60.0;
   const double t_end = argc > 3 ? std::atof(argv[3]) : 8.0;
+  const std::string preconditioner = argc > 4 ? argv[4] : "multigrid";
+  if (preconditioner != "multigrid" && preconditioner != "block-jacobi") {
+    std::fprintf(stderr, "preconditioner: '%s', expected multigrid or block-jacobi\n", preconditioner.c_str());
+    return 2;
+  }
   drape::ClothSpec<double> spec;
   spec.nx = spec.ny = n;
   const drape::Cloth<double> cloth(spec);
   drape::State<double> state = cloth.initial_state();
   drape::ImplicitOptions options;
   options.threads = 1;
+  options.preconditioner =
+      preconditioner == "multigrid" ? drape::Preconditioner::Multigrid : drape::Preconditioner::BlockJacobi;
   drape::ImplicitEuler<double> integrator(cloth, options);
-  std::printf("%d x %d, dt = %g, solver %s (%s), tolerance %g\n", n, n, dt, options.solver.c_str(),
-              drape::to_string(options.jacobian), options.tolerance);
+  std::printf("%d x %d, dt = %g, solver %s (%s, %s), tolerance %g\n", n, n, dt, options.solver.c_str(),
+              drape::to_string(options.jacobian), drape::to_string(options.preconditioner), options.tolerance);
   long long iterations = 0, steps = 0;
   double window_end = 0.25, window_start = 0;
   while (state.time < t_end - 1e-12) {

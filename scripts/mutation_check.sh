@@ -2,6 +2,7 @@
 # Proves the tests can fail: applies each deliberate bug listed in tests/mutations.tsv to a scratch
 # copy of the committed tree (HEAD), rebuilds the named test binaries and requires at least one to fail.
 #   scripts/mutation_check.sh            (needs a configured tree; takes a few minutes)
+#   DRAPE_MUTATIONS_MATCH=multigrid scripts/mutation_check.sh   (only mutations whose name matches)
 # tests/mutations.tsv: one mutation per line, TAB-separated: name, file, exact text, replacement,
 # space-separated test targets (a replacement of `-` deletes the text). Lines starting with # are comments.
 set -euo pipefail
@@ -15,6 +16,7 @@ survivors=0
 total=0
 while IFS=$'\t' read -r name file old new targets; do
   [[ -z "$name" || "$name" == \#* ]] && continue
+  [[ -n "${DRAPE_MUTATIONS_MATCH:-}" && ! "$name" =~ ${DRAPE_MUTATIONS_MATCH} ]] && continue
   total=$((total + 1))
   cp "$scratch/$file" "$scratch/$file.orig"
   [ "$new" = "-" ] && new=""

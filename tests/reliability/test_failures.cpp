@@ -76,8 +76,13 @@ TEST_CASE("implicit Euler with a huge dt: a failure is reported and the state ke
     o.max_iterations = 200;
     return ImplicitEuler<double>(cloth, o);
   };
-  SECTION("cg at dt = 1e6 s: the system is too ill-conditioned to converge") {
-    ImplicitEuler<double> ie = make("cg");
+  SECTION("block-Jacobi cg at dt = 1e6 s: the system is too ill-conditioned to converge") {
+    // (Multigrid-preconditioned cg, the default, does converge here: the coarse levels carry the
+    // stiffness that Jacobi cannot.)
+    ImplicitOptions o;
+    o.preconditioner = Preconditioner::BlockJacobi;
+    o.max_iterations = 200;
+    ImplicitEuler<double> ie(cloth, o);
     Stated s = cloth.initial_state();
     const Stated before = s;
     const StepStatus status = ie.step(s, 1e6);

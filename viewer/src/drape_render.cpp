@@ -61,16 +61,7 @@ drape::ClothSpecd make_spec(const Settings& s) {
 /// The chosen integrator behind one call signature, so the loops below do not care which it is.
 Stepper make_stepper(const Settings& s, const drape::Clothd& cloth) {
   if (s.integrator == "implicit") {
-    drape::ImplicitOptions o;
-    o.jacobian = s.jacobian == "exact"       ? drape::JacobianVariant::Exact
-                 : s.jacobian == "symmetric" ? drape::JacobianVariant::Symmetric
-                                             : drape::JacobianVariant::Spd;
-    o.solver = s.solver;
-    o.tolerance = s.tolerance;
-    o.max_iterations = s.max_iterations;
-    o.threads = s.threads;
-    o.pins = s.pin_treatment == "filter" ? drape::PinTreatment::Filter : drape::PinTreatment::Eliminate;
-    auto implicit = std::make_shared<drape::ImplicitEuler<double>>(cloth, o);
+    auto implicit = std::make_shared<drape::ImplicitEuler<double>>(cloth, drape::render::implicit_options(s));
     return [implicit](drape::Stated& state, double dt) { return implicit->step(state, dt); };
   }
   auto rk2 = std::make_shared<drape::Rk2<double>>(cloth, s.threads);

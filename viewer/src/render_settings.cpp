@@ -107,6 +107,19 @@ std::string find_on_path(const std::string& program) {
   return "";
 }
 
+drape::ImplicitOptions implicit_options(const Settings& s) {
+  drape::ImplicitOptions o;
+  o.jacobian = s.jacobian == "exact" ? JacobianVariant::Exact
+               : s.jacobian == "symmetric" ? JacobianVariant::Symmetric : JacobianVariant::Spd;
+  o.solver = s.solver;
+  o.preconditioner = s.preconditioner == "block-jacobi" ? Preconditioner::BlockJacobi : Preconditioner::Multigrid;
+  o.tolerance = s.tolerance;
+  o.max_iterations = s.max_iterations;
+  o.threads = s.threads;
+  o.pins = s.pin_treatment == "filter" ? PinTreatment::Filter : PinTreatment::Eliminate;
+  return o;
+}
+
 void validate(const Settings& s) {
   require_one_of("--integrator", s.integrator, available_integrators());
   require_one_of("--jacobian", s.jacobian, {"exact", "symmetric", "spd"});
@@ -114,6 +127,7 @@ void validate(const Settings& s) {
   if (!(s.tolerance > 0 && s.tolerance < 1)) fail("--tolerance", number(s.tolerance), "(0, 1)");
   require_range("--max-iterations", s.max_iterations, 1, 100'000'000);
   require_one_of("--pin-treatment", s.pin_treatment, {"eliminate", "filter"});
+  require_one_of("--preconditioner", s.preconditioner, {"multigrid", "block-jacobi"});
   require_range("--nx", s.nx, 2, 10000);
   require_range("--ny", s.ny, 2, 10000);
   if (static_cast<long long>(s.nx) * s.ny > 16'000'000LL)
@@ -157,16 +171,8 @@ void validate(const Settings& s) {
   }
   if (s.integrator == "implicit") {
     // Combinations (e.g. the Exact Jacobian with a symmetric-only solver) are the library's rules.
-    drape::ImplicitOptions o;
-    o.jacobian = s.jacobian == "exact" ? JacobianVariant::Exact
-                 : s.jacobian == "symmetric" ? JacobianVariant::Symmetric : JacobianVariant::Spd;
-    o.solver = s.solver;
-    o.tolerance = s.tolerance;
-    o.max_iterations = s.max_iterations;
-    o.threads = s.threads;
-    o.pins = s.pin_treatment == "filter" ? PinTreatment::Filter : PinTreatment::Eliminate;
     try {
-      o.validate();
+      implicit_options(s).validate();
     } catch (const std::invalid_argument& e) {
       throw SettingsError(std::string("--jacobian/--solver/--pin-treatment: ") + e.what());
     }
@@ -201,6 +207,7 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   bind("tolerance", s.tolerance, "implicit: relative residual of iterative solvers, (0, 1)", sim);
   bind("max-iterations", s.max_iterations, "implicit: iteration cap of iterative solvers, >= 1", sim);
   bind("pin-treatment", s.pin_treatment, "implicit: eliminate | filter (pinned DOFs)", sim);
+  bind("preconditioner", s.preconditioner, "implicit, cg: multigrid | block-jacobi", sim);
   bind("dt", s.dt, "time step in s, > 0 and <= --frame-time", sim);
   bind("structural-ks", s.structural_ks, "structural stiffness in N/m, >= 0", sim);
   bind("structural-kd", s.structural_kd, "structural damping in N s/m, >= 0", sim);

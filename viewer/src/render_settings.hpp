@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "drape/integrators/implicit_euler.hpp"
+
 namespace drape::render {
 
 /// A bad value: the message names the flag and the allowed range. Exit code 2.
@@ -24,6 +26,7 @@ struct Settings {
   double tolerance = 1e-6;
   int max_iterations = 2000;
   std::string pin_treatment = "eliminate";  // eliminate | filter
+  std::string preconditioner = "multigrid"; // multigrid | block-jacobi (cg only)
   double dt = 0.0005;
   double structural_ks = 20000, structural_kd = 10;
   double shear_ks = 5000, shear_kd = 5;
@@ -66,6 +69,9 @@ bool parse_settings(int argc, char** argv, Settings& settings, int& exit_code);
 
 /// The checks of parse_settings() on their own. \throws SettingsError.
 void validate(const Settings& s);
+
+/// The implicit integrator's options the settings ask for (not validated: see validate()).
+drape::ImplicitOptions implicit_options(const Settings& s);
 
 /// Integrator names, Jacobian variants and solvers this build offers.
 std::vector<std::string> available_integrators();

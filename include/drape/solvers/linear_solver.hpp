@@ -14,14 +14,24 @@
 
 #include "drape/integrators/step_status.hpp"
 #include "drape/solvers/block_sparse_matrix.hpp"
+#include "drape/solvers/grid_layout.hpp"
 
 namespace drape {
+
+/// Preconditioner of the iterative solvers.
+enum class Preconditioner : std::uint8_t {
+  BlockJacobi = 0,  ///< inverse 3x3 diagonal blocks: needs nothing but the matrix
+  Multigrid = 1,    ///< geometric multigrid V-cycle (multigrid.hpp): needs the GridLayout; cg only
+};
+
+inline const char* to_string(Preconditioner p) { return p == Preconditioner::Multigrid ? "multigrid" : "block-jacobi"; }
 
 /// Settings of the iterative solvers.
 struct IterativeSettings {
   double tolerance = 1e-6;  ///< stop when |b - A x| <= tolerance |b|
   int max_iterations = 1000;
   int threads = 0;          ///< 0 = all available
+  Preconditioner preconditioner = Preconditioner::BlockJacobi;
 };
 
 template <class Scalar = double>
@@ -33,6 +43,9 @@ class LinearSolver {
   /// True if the solver needs a symmetric matrix (Symmetric or Spd Jacobian).
   virtual bool requires_symmetric() const = 0;
   virtual bool supports_filter() const { return false; }
+  /// Where the rows sit on the lattice; call before analyze(). Solvers that do not exploit the
+  /// geometry ignore it.
+  virtual void set_grid_layout(const GridLayout& /*layout*/) {}
   virtual void analyze(const BlockSparseMatrix<Scalar>& a) = 0;
   virtual StepStatus solve(const BlockSparseMatrix<Scalar>& a, const VectorX<Scalar>& b, VectorX<Scalar>& x,
                            const std::uint8_t* filter = nullptr) = 0;

@@ -1,8 +1,10 @@
 #pragma once
 /// \file pcg.hpp
-/// Preconditioned conjugate gradients with a 3x3 block-Jacobi preconditioner, warm-started from the
-/// caller's `x` (the previous step's dv), on the block-CSR system. Requires a symmetric positive
-/// definite matrix; reports `NotPositiveDefinite` when it meets a direction with p^T A p <= 0.
+/// Preconditioned conjugate gradients, warm-started from the caller's `x` (the previous step's dv),
+/// on the block-CSR system. Preconditioner (IterativeSettings::preconditioner): 3x3 block Jacobi,
+/// or a geometric multigrid V-cycle on the cloth's lattice (multigrid.hpp; needs set_grid_layout()).
+/// Requires a symmetric positive definite matrix; reports `NotPositiveDefinite` when it meets a
+/// direction with p^T A p <= 0 (or the multigrid hierarchy finds a coarse operator that is not).
 ///
 /// Threads: the whole solve runs in one parallel region; rows are split statically and every dot
 /// product is summed per thread over a fixed row range, then the per-thread partials are added in
@@ -19,6 +21,7 @@
 #include <Eigen/LU>  // 3x3 inverse
 
 #include "drape/solvers/linear_solver.hpp"
+#include "drape/solvers/multigrid.hpp"
 
 #if defined(_OPENMP)
 #include <omp.h>
@@ -37,11 +40,15 @@ class PcgSolver final : public LinearSolver<Scalar> {
   const char* name() const override { return "cg"; }
   bool requires_symmetric() const override { return true; }
   bool supports_filter() const override { return true; }
+  void set_grid_layout(const GridLayout& layout) override { m_layout = layout; }
+  /// \throws std::invalid_argument if the multigrid preconditioner is chosen without a grid layout
+  /// (or with one that does not match `a`).
   void analyze(const BlockSparseMatrix<Scalar>& a) override;
   StepStatus solve(const BlockSparseMatrix<Scalar>& a, const VectorX<Scalar>& b, VectorX<Scalar>& x,
                    const std::uint8_t* filter = nullptr) override;
 
   const IterativeSettings& settings() const { return m_settings; }
+  const MultigridPreconditioner<Scalar>& multigrid() const { return m_multigrid; }
 
  private:
   static constexpr int max_team = 64;
@@ -49,7 +56,11 @@ class PcgSolver final : public LinearSolver<Scalar> {
     double value[4];
   };
 
+  bool use_multigrid() const { return m_settings.preconditioner == Preconditioner::Multigrid; }
+
   IterativeSettings m_settings;
+  GridLayout m_layout;
+  MultigridPreconditioner<Scalar> m_multigrid;
   VectorX<Scalar> m_r, m_z, m_p, m_q, m_inv_diag;
   std::array<Partial, max_team> m_partial{};
 };
@@ -61,12 +72,19 @@ void PcgSolver<Scalar>::analyze(const BlockSparseMatrix<Scalar>& a) {
   const Index n = a.size();
   for (VectorX<Scalar>* v : {&m_r, &m_z, &m_p, &m_q}) v->setZero(n);
   m_inv_diag.setZero(3 * n);
+  if (use_multigrid()) {
+    if (m_layout.empty())
+      detail::fail_argument("preconditioner", "multigrid without a grid layout",
+                            "block-jacobi, or multigrid after set_grid_layout() (ImplicitEuler does this)");
+    m_multigrid.analyze(m_layout, a);
+  }
 }
 
 template <class Scalar>
 StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const VectorX<Scalar>& b, VectorX<Scalar>& x,
                                     const std::uint8_t* filter) {
-  if (m_r.size() != a.size()) analyze(a);
+  if (m_r.size() != a.size() || (use_multigrid() && !m_multigrid.analyzed())) analyze(a);
+  const bool multigrid = use_multigrid();
   const int rows = a.block_rows();
   const int team = std::min(max_team, effective_threads(m_settings.threads, rows, min_rows_per_thread));
   const int* rb = a.row_begin().data();
@@ -107,6 +125,16 @@ StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const Ve
     z[3 * row + 1] = m[1] * rr[0] + m[4] * rr[1] + m[7] * rr[2];
     z[3 * row + 2] = m[2] * rr[0] + m[5] * rr[1] + m[8] * rr[2];
   };
+  // Multigrid only: zero z on filtered rows and add this thread's rows of r . z to `sum` (omp for).
+  const auto filtered_dot = [&](double& sum) {
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+    for (int row = 0; row < rows; ++row) {
+      if (filter && filter[row]) z[3 * row] = z[3 * row + 1] = z[3 * row + 2] = 0;
+      for (int k = 0; k < 3; ++k) sum += double(r[3 * row + k]) * double(z[3 * row + k]);
+    }
+  };
   // Every thread adds the team's partials in thread order, so all agree on the same value.
   const auto reduce = [&](int slot, int threads_in_team) {
     double s = 0;
@@ -134,7 +162,7 @@ StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const Ve
       if (fixed) {
         m.setZero();
         xs[3 * row] = xs[3 * row + 1] = xs[3 * row + 2] = 0;
-      } else {
+      } else if (!multigrid) {
         m = Eigen::Map<const Mat3<Scalar>>(val + 9 * diag[row]).inverse();
         if (!m.allFinite()) bad_diagonal = true;
       }
@@ -150,14 +178,31 @@ StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const Ve
       rr[0] = fixed ? Scalar(0) : bs[3 * row] - y0;
       rr[1] = fixed ? Scalar(0) : bs[3 * row + 1] - y1;
       rr[2] = fixed ? Scalar(0) : bs[3 * row + 2] - y2;
-      precondition(row);
       for (int k = 0; k < 3; ++k) {
-        p[3 * row + k] = z[3 * row + k];
         if (!fixed) mine.value[0] += double(bs[3 * row + k]) * double(bs[3 * row + k]);
         mine.value[1] += double(rr[k]) * double(rr[k]);
-        mine.value[2] += double(rr[k]) * double(z[3 * row + k]);
+      }
+      if (!multigrid) {
+        precondition(row);
+        for (int k = 0; k < 3; ++k) {
+          p[3 * row + k] = z[3 * row + k];
+          mine.value[2] += double(rr[k]) * double(z[3 * row + k]);
+        }
       }
       if (bad_diagonal) mine.value[3] = 1;
+    }
+    if (multigrid) {
+      // Coarse operators for this matrix (ends with a barrier, so r is complete), then z = B r.
+      if (!m_multigrid.update_in_team(a)) {
+        mine.value[3] = 1;
+      } else {
+        m_multigrid.apply_in_team(r, z);
+        filtered_dot(mine.value[2]);
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+        for (int i = 0; i < 3 * rows; ++i) p[i] = z[i];
+      }
     }
 #if defined(_OPENMP)
 #pragma omp barrier
@@ -226,12 +271,16 @@ StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const Ve
         for (int k = 0; k < 3; ++k) {
           xs[3 * row + k] += alpha * p[3 * row + k];
           r[3 * row + k] -= alpha * q[3 * row + k];
-        }
-        precondition(row);
-        for (int k = 0; k < 3; ++k) {
           mine.value[1] += double(r[3 * row + k]) * double(r[3 * row + k]);
-          mine.value[2] += double(r[3 * row + k]) * double(z[3 * row + k]);
         }
+        if (!multigrid) {
+          precondition(row);
+          for (int k = 0; k < 3; ++k) mine.value[2] += double(r[3 * row + k]) * double(z[3 * row + k]);
+        }
+      }
+      if (multigrid) {  // r is complete after the loop's barrier
+        m_multigrid.apply_in_team(r, z);
+        filtered_dot(mine.value[2]);
       }
       rr_norm2 = reduce(1, nt);
       const double rz_new = reduce(2, nt);
