@@ -32,6 +32,10 @@
 #include <string>
 #include <vector>
 
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
 #include <Eigen/Cholesky>
 #include <Eigen/LU>  // 3x3 inverse
 
@@ -273,21 +277,34 @@ void MultigridPreconditioner<Scalar>::analyze(const GridLayout& layout, const Bl
           for (const auto& pj : p[static_cast<std::size_t>(fcol[static_cast<std::size_t>(k)])])
             columns[static_cast<std::size_t>(pi.first)].push_back(pj.first);
     level.a = BlockSparseMatrix<Scalar>(std::move(columns));
-    // Galerkin weights of every coarse block on or above the diagonal.
-    std::vector<std::vector<std::pair<int, Scalar>>> sums(static_cast<std::size_t>(level.a.block_count()));
-    for (int i = 0; i < fine_rows; ++i)
-      for (int k = frb[static_cast<std::size_t>(i)]; k < frb[static_cast<std::size_t>(i) + 1]; ++k)
-        for (const auto& [I, wi] : p[static_cast<std::size_t>(i)])
-          for (const auto& [J, wj] : p[static_cast<std::size_t>(fcol[static_cast<std::size_t>(k)])])
-            if (I <= J) sums[static_cast<std::size_t>(level.a.find(I, J))].emplace_back(k, wi * wj);
+    // Galerkin weights of every coarse block on or above the diagonal, grouped by coarse block
+    // (counting sort: count, then fill).
+    std::vector<int> first(static_cast<std::size_t>(level.a.block_count()) + 1, 0);
+    const auto for_each_term = [&](auto&& term) {
+      for (int i = 0; i < fine_rows; ++i)
+        for (int k = frb[static_cast<std::size_t>(i)]; k < frb[static_cast<std::size_t>(i) + 1]; ++k)
+          for (const auto& [I, wi] : p[static_cast<std::size_t>(i)])
+            for (const auto& [J, wj] : p[static_cast<std::size_t>(fcol[static_cast<std::size_t>(k)])])
+              if (I <= J) term(level.a.find(I, J), k, wi * wj);
+    };
+    for_each_term([&](int K, int, Scalar) { ++first[static_cast<std::size_t>(K) + 1]; });
+    for (std::size_t K = 0; K + 1 < first.size(); ++K) first[K + 1] += first[K];
+    std::vector<int> fill(first.begin(), first.end() - 1);
+    std::vector<int> term_block(static_cast<std::size_t>(first.back()));
+    std::vector<Scalar> term_weight(static_cast<std::size_t>(first.back()));
+    for_each_term([&](int K, int k, Scalar w) {
+      const int at = fill[static_cast<std::size_t>(K)]++;
+      term_block[static_cast<std::size_t>(at)] = k;
+      term_weight[static_cast<std::size_t>(at)] = w;
+    });
     level.g_begin.push_back(0);
     for (int K = 0; K < level.a.block_count(); ++K) {
-      if (sums[static_cast<std::size_t>(K)].empty()) continue;
+      if (first[static_cast<std::size_t>(K)] == first[static_cast<std::size_t>(K) + 1]) continue;
       level.upper.push_back(K);
-      for (const auto& [k, w] : sums[static_cast<std::size_t>(K)]) {
-        level.g_block.push_back(k);
-        level.g_weight.push_back(w);
-      }
+      level.g_block.insert(level.g_block.end(), term_block.begin() + first[static_cast<std::size_t>(K)],
+                           term_block.begin() + first[static_cast<std::size_t>(K) + 1]);
+      level.g_weight.insert(level.g_weight.end(), term_weight.begin() + first[static_cast<std::size_t>(K)],
+                            term_weight.begin() + first[static_cast<std::size_t>(K) + 1]);
       level.g_begin.push_back(static_cast<int>(level.g_block.size()));
     }
     level.b.setZero(3 * coarse_rows);
@@ -308,6 +325,14 @@ void MultigridPreconditioner<Scalar>::analyze(const GridLayout& layout, const Bl
 }
 
 namespace detail {
+inline bool in_parallel_region() {
+#if defined(_OPENMP)
+  return omp_in_parallel() != 0;
+#else
+  return false;
+#endif
+}
+
 /// `body(i)` for i in [0, n): shared by the team (`omp for`, ends with a barrier) or all by the caller.
 template <class Body>
 void for_rows(bool team, int n, Body&& body) {
@@ -397,6 +422,15 @@ bool MultigridPreconditioner<Scalar>::update_in_team(const BlockSparseMatrix<Sca
 template <class Scalar>
 void MultigridPreconditioner<Scalar>::residual(int l, const Scalar* b, const Scalar* x, Scalar* r, bool team) const {
   const BlockSparseMatrix<Scalar>& m = matrix(l);
+  // On one thread the finest level's per-spring edge form is the cheaper product (one 3x3 block
+  // per spring instead of two, block_sparse_matrix.hpp); with a team it would cost a barrier per
+  // spring colour, so the team uses block rows. (Never inside an `omp single`: the edge product
+  // shares its loops with the team.)
+  if (l == 0 && !team && m.edge_form_valid() && !detail::in_parallel_region()) {
+    detail::edge_multiply_in_team(m, x, r);
+    for (int i = 0; i < 3 * m.block_rows(); ++i) r[i] = b[i] - r[i];
+    return;
+  }
   const int* rb = m.row_begin().data();
   const int* col = m.column().data();
   const Scalar* val = m.values();

@@ -125,15 +125,28 @@ StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const Ve
     z[3 * row + 1] = m[1] * rr[0] + m[4] * rr[1] + m[7] * rr[2];
     z[3 * row + 2] = m[2] * rr[0] + m[5] * rr[1] + m[8] * rr[2];
   };
-  // Multigrid only: zero z on filtered rows and add this thread's rows of r . z to `sum` (omp for).
-  const auto filtered_dot = [&](double& sum) {
+  // `body(row, s0, s1)` over this thread's static share of the rows, accumulating two sums in
+  // registers (partials in shared memory would be reloaded at every row, since vectors may alias
+  // them); then stores them as this thread's partials `slot0`, `slot1` (-1: none) and waits for
+  // the team.
+  const auto for_rows_summing = [&](Partial& mine, int slot0, int slot1, auto&& row_body) {
+    double s0 = 0, s1 = 0;
 #if defined(_OPENMP)
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
 #endif
-    for (int row = 0; row < rows; ++row) {
+    for (int row = 0; row < rows; ++row) row_body(row, s0, s1);
+    if (slot0 >= 0) mine.value[slot0] = s0;
+    if (slot1 >= 0) mine.value[slot1] = s1;
+#if defined(_OPENMP)
+#pragma omp barrier
+#endif
+  };
+  // Multigrid only: zero z on filtered rows and sum this thread's rows of r . z into `slot`.
+  const auto filtered_dot = [&](Partial& mine, int slot) {
+    for_rows_summing(mine, slot, -1, [&](int row, double& rz_sum, double&) {
       if (filter && filter[row]) z[3 * row] = z[3 * row + 1] = z[3 * row + 2] = 0;
-      for (int k = 0; k < 3; ++k) sum += double(r[3 * row + k]) * double(z[3 * row + k]);
-    }
+      for (int k = 0; k < 3; ++k) rz_sum += double(r[3 * row + k]) * double(z[3 * row + k]);
+    });
   };
   // Every thread adds the team's partials in thread order, so all agree on the same value.
   const auto reduce = [&](int slot, int threads_in_team) {
@@ -197,7 +210,7 @@ StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const Ve
         mine.value[3] = 1;
       } else {
         m_multigrid.apply_in_team(r, z);
-        filtered_dot(mine.value[2]);
+        filtered_dot(mine, 2);
 #if defined(_OPENMP)
 #pragma omp for schedule(static)
 #endif
@@ -232,30 +245,23 @@ StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const Ve
       }
       ++it;
       // q = S A p, pq = p . q
-      mine.value[0] = 0;
       if (edges) {
         detail::edge_multiply_in_team(a, p, q);  // ends with a barrier
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-        for (int row = 0; row < rows; ++row) {
+        for_rows_summing(mine, 0, -1, [&](int row, double& pq_sum, double&) {
           if (filter && filter[row]) q[3 * row] = q[3 * row + 1] = q[3 * row + 2] = 0;
-          mine.value[0] += double(p[3 * row]) * double(q[3 * row]) + double(p[3 * row + 1]) * double(q[3 * row + 1]) +
-                           double(p[3 * row + 2]) * double(q[3 * row + 2]);
-        }
+          pq_sum += double(p[3 * row]) * double(q[3 * row]) + double(p[3 * row + 1]) * double(q[3 * row + 1]) +
+                    double(p[3 * row + 2]) * double(q[3 * row + 2]);
+        });
       } else {
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-        for (int row = 0; row < rows; ++row) {
+        for_rows_summing(mine, 0, -1, [&](int row, double& pq_sum, double&) {
           Scalar y0, y1, y2;
           row_product(row, p, y0, y1, y2);
           if (filter && filter[row]) y0 = y1 = y2 = 0;
           q[3 * row] = y0;
           q[3 * row + 1] = y1;
           q[3 * row + 2] = y2;
-          mine.value[0] += double(p[3 * row]) * y0 + double(p[3 * row + 1]) * y1 + double(p[3 * row + 2]) * y2;
-        }
+          pq_sum += double(p[3 * row]) * y0 + double(p[3 * row + 1]) * y1 + double(p[3 * row + 2]) * y2;
+        });
       }
       const double pq = reduce(0, nt);
       if (!(pq > 0) || !std::isfinite(pq)) {
@@ -263,24 +269,20 @@ StepStatus PcgSolver<Scalar>::solve(const BlockSparseMatrix<Scalar>& a, const Ve
         break;
       }
       const Scalar alpha = Scalar(rz / pq);
-      mine.value[1] = mine.value[2] = 0;
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-      for (int row = 0; row < rows; ++row) {
+      for_rows_summing(mine, 1, multigrid ? -1 : 2, [&](int row, double& rr_sum, double& rz_sum) {
         for (int k = 0; k < 3; ++k) {
           xs[3 * row + k] += alpha * p[3 * row + k];
           r[3 * row + k] -= alpha * q[3 * row + k];
-          mine.value[1] += double(r[3 * row + k]) * double(r[3 * row + k]);
+          rr_sum += double(r[3 * row + k]) * double(r[3 * row + k]);
         }
         if (!multigrid) {
           precondition(row);
-          for (int k = 0; k < 3; ++k) mine.value[2] += double(r[3 * row + k]) * double(z[3 * row + k]);
+          for (int k = 0; k < 3; ++k) rz_sum += double(r[3 * row + k]) * double(z[3 * row + k]);
         }
-      }
-      if (multigrid) {  // r is complete after the loop's barrier
+      });
+      if (multigrid) {  // r is complete after the barrier
         m_multigrid.apply_in_team(r, z);
-        filtered_dot(mine.value[2]);
+        filtered_dot(mine, 2);
       }
       rr_norm2 = reduce(1, nt);
       const double rz_new = reduce(2, nt);
