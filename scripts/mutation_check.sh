@@ -48,7 +48,7 @@ PY
     printf 'SURVIVED  %-40s (%s)\n' "$name" "$targets"
     survivors=$((survivors + 1))
   fi
-done < "$root/tests/mutations.tsv"
+done < "$scratch/tests/mutations.tsv"   # the committed list, like the code
 cmake --build "$scratch/build" >/dev/null 2>&1 || true
 echo "$((total - survivors)) of $total mutations caught"
 [ "$survivors" -eq 0 ]
