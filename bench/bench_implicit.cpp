@@ -1,7 +1,7 @@
 /// \file bench_implicit.cpp
-/// The implicit integrator's families: Jacobian (system) assembly, linear solve per solver, the full
-/// implicit step per solver and Jacobian variant at dt = 0.01 and 1/60, and the implicit set-up,
-/// each next to the textbook baseline (baseline.hpp). Also the start-up accuracy check that the
+/// The implicit integrator's families: Jacobian (system) assembly, the system mat-vec, linear solve
+/// per solver, the full implicit step per solver and Jacobian variant at dt = 0.01 and 1/60, and
+/// the implicit set-up, each next to the textbook baseline (baseline.hpp). Also the start-up accuracy check that the
 /// figures are compared at equal accuracy (check_accuracy()).
 
 #include <algorithm>
@@ -14,6 +14,8 @@
 #include "baseline.hpp"
 #include "bench_common.hpp"
 #include "drape/integrators/implicit_euler.hpp"
+#include "drape/solvers/enable_ldlt.hpp"  // opt-in solvers (solver_registry.hpp): measured and
+#include "drape/solvers/enable_lu.hpp"    // ldlt is the reference of the accuracy check
 
 namespace drape_bench {
 namespace {
@@ -174,6 +176,44 @@ void linear_solve_baseline(benchmark::State& st, double dt) {
   st.counters["nodes"] = double(sc.cloth->node_count());
 }
 
+// ---- system mat-vec -------------------------------------------------------------------------------
+
+/// y = A x with the system of linear_solve (default variant, dt = 1/60), the kernel of every CG
+/// iteration: drape's per-spring edge form (what PCG uses on one thread) and block CSR (what
+/// it uses with a team) against the baseline's scalar CSC matrix times a vector.
+void matvec_drape(benchmark::State& st, bool edges) {
+  const Scene& sc = scene(int(st.range(0)));
+  drape::BlockSparseMatrix<double> a = solve_case(sc, 1.0 / 60.0).a;
+  if (!edges) a.set_edge_form({}, {0}, {});  // blocks only
+  const drape::VectorX<double> x = drape::VectorX<double>::Random(a.size());
+  drape::VectorX<double> y(a.size());
+  const int threads = int(st.range(1));
+  for (auto _ : st) {
+    a.multiply(x.data(), y.data(), threads);
+    benchmark::DoNotOptimize(y.data());
+    benchmark::ClobberMemory();
+  }
+  st.counters["nodes"] = double(sc.cloth->node_count());
+  st.SetItemsProcessed(st.iterations() * sc.cloth->springs().size());
+}
+
+void matvec_baseline(benchmark::State& st) {
+  const Scene& sc = scene(int(st.range(0)));
+  const BaselineImplicit baseline(*sc.cloth);
+  BaselineImplicit::SparseMatrix a;
+  BaselineImplicit::Vector rhs;
+  baseline.assemble(sc.warm.positions, sc.warm.velocities, 1.0 / 60.0, a, rhs);
+  const BaselineImplicit::Vector x = BaselineImplicit::Vector::Random(a.cols());
+  BaselineImplicit::Vector y(a.rows());
+  for (auto _ : st) {
+    y.noalias() = a * x;
+    benchmark::DoNotOptimize(y.data());
+    benchmark::ClobberMemory();
+  }
+  st.counters["nodes"] = double(sc.cloth->node_count());
+  st.SetItemsProcessed(st.iterations() * sc.cloth->springs().size());
+}
+
 // ---- full implicit step ------------------------------------------------------------------------------
 
 void implicit_step_drape(benchmark::State& st, const std::string& solver, JacobianVariant jacobian, double dt) {
@@ -212,6 +252,12 @@ const bool registered = [] {
           one_and_two, benchmark::kMillisecond);
   sized(RegisterBenchmark(name("jacobian_assembly", "baseline").c_str(), jacobian_assembly_baseline), serial,
         benchmark::kMillisecond);
+
+  sized(RegisterBenchmark(name("matvec", "drape", "/form=edges").c_str(), matvec_drape, true), one_and_two,
+        benchmark::kMicrosecond);
+  sized(RegisterBenchmark(name("matvec", "drape", "/form=blocks").c_str(), matvec_drape, false), one_and_two,
+        benchmark::kMicrosecond);
+  sized(RegisterBenchmark(name("matvec", "baseline").c_str(), matvec_baseline), serial, benchmark::kMicrosecond);
 
   for (const std::string solver : {"cg", "bicgstab", "cholmod", "umfpack", "ldlt", "lu"}) {
     if (!available(solver)) continue;

@@ -8,6 +8,8 @@
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/solvers/enable_ldlt.hpp"  // opt-in solvers used below
+#include "drape/solvers/enable_lu.hpp"
 #include "test_common.hpp"
 
 using namespace drape;

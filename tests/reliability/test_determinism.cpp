@@ -10,6 +10,7 @@
 #include "drape/core/parallel.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
+#include "drape/solvers/enable_ldlt.hpp"  // opt-in solver used below
 
 using namespace drape;
 

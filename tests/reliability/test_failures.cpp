@@ -19,6 +19,8 @@
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/io/state_io.hpp"
+#include "drape/solvers/enable_ldlt.hpp"  // opt-in solvers: "every solver" covers them too
+#include "drape/solvers/enable_lu.hpp"
 
 using namespace drape;
 namespace fs = std::filesystem;

@@ -1,11 +1,18 @@
 // Every linear solver gives the same dv on the same system; filtered and eliminated pins agree;
-// failures are reported, not hidden.
+// failures are reported, not hidden; opt-in solvers are registered by their headers.
 #include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <Eigen/LU>
 
 #include "drape/fwd.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
+#include "drape/solvers/enable_ldlt.hpp"
+#include "drape/solvers/enable_lu.hpp"
 #include "drape/solvers/solver_registry.hpp"
 #include "test_common.hpp"
 
@@ -221,4 +228,34 @@ TEST_CASE("the per-spring (edge) mat-vec equals the block-CSR mat-vec", "[solver
       CHECK(two_threads == by_edges);
     }
   }
+}
+
+TEST_CASE("opt-in solvers: registered by their header, otherwise rejected naming it", "[solvers][registry]") {
+  // This program includes enable_ldlt.hpp and enable_lu.hpp: both are registered, for both scalars.
+  const std::vector<std::string> available = available_solvers();
+  for (const std::string name : {"ldlt", "lu"}) {
+    INFO(name);
+    CHECK(std::find(available.begin(), available.end(), name) != available.end());
+    CHECK(std::string(make_linear_solver<double>(name)->name()) == name);
+    CHECK(std::string(make_linear_solver<float>(name)->name()) == name);
+  }
+  // A program that includes neither header: simulated by emptying the registry for a moment.
+  auto& registered = detail::registered_solvers<double>();
+  const auto saved = registered;
+  registered.clear();
+  for (const std::string name : {"ldlt", "lu"}) {
+    INFO(name);
+    bool thrown = false;
+    try {
+      detail::require_available_solver(name);
+    } catch (const std::invalid_argument& e) {
+      thrown = true;
+      CHECK_THAT(e.what(), Catch::Contains("solver") && Catch::Contains("drape/solvers/enable_" + name + ".hpp"));
+    }
+    CHECK(thrown);
+    const std::vector<std::string> without = available_solvers();
+    CHECK(std::find(without.begin(), without.end(), name) == without.end());
+  }
+  registered = saved;
+  CHECK_THROWS_AS(make_linear_solver<double>("magic"), std::invalid_argument);
 }

@@ -39,6 +39,49 @@ inline const char* to_string(JacobianVariant v) {
   return "unknown";
 }
 
+/// The scalars every derivative block of one spring is made of (see the file comment):
+/// \f$ f_a = \varphi u \f$, \f$ K = k_{uu}\, u u^T + k_I\, I + k_{uw}\, u w^T \f$ and
+/// \f$ D = k_d\, u u^T \f$. The system assembly forms \f$ C = \Delta t D + \Delta t^2 K \f$ and
+/// \f$ K w \f$ from them directly, without any 3x3 temporary (jacobian_assembler.hpp).
+template <class Scalar>
+struct SpringLinearisation {
+  Vec3<Scalar> u;  ///< unit direction from a to b
+  Vec3<Scalar> w;  ///< relative velocity v_b - v_a
+  Scalar wu;       ///< w . u
+  Scalar phi;      ///< force magnitude: f_a = phi u (N)
+  Scalar k_uu;     ///< K's u u^T coefficient (N/m)
+  Scalar k_i;      ///< K's identity coefficient (N/m)
+  Scalar k_uw;     ///< K's u w^T coefficient (N s/m^2); 0 unless the variant is Exact
+};
+
+template <class Scalar>
+SpringLinearisation<Scalar> linearise_spring(const Vec3<Scalar>& xa, const Vec3<Scalar>& xb, const Vec3<Scalar>& va,
+                                             const Vec3<Scalar>& vb, Scalar rest_length, Scalar stiffness,
+                                             Scalar damping, JacobianVariant variant) {
+  SpringLinearisation<Scalar> s;
+  const Vec3<Scalar> d = xb - xa;
+  const Scalar length = d.norm();
+  const Scalar inv_length = Scalar(1) / length;
+  s.u = d * inv_length;
+  s.w = vb - va;
+  s.wu = s.w.dot(s.u);
+  s.phi = stiffness * (length - rest_length) + damping * s.wu;
+  // ks u u^T + ks t P = ks t I + ks (1 - t) u u^T with transverse factor t = 1 - l/L.
+  Scalar t = Scalar(1) - rest_length * inv_length;
+  if (variant == JacobianVariant::Spd) t = std::max(t, Scalar(0));
+  s.k_uu = stiffness * (Scalar(1) - t);
+  s.k_i = stiffness * t;
+  s.k_uw = 0;
+  if (variant == JacobianVariant::Exact) {
+    // (kd/L) (u (Pw)^T + (w.u) P) = (kd/L) (u w^T + (w.u) I - 2 (w.u) u u^T)
+    const Scalar c = damping * inv_length;
+    s.k_uw = c;
+    s.k_i += c * s.wu;
+    s.k_uu -= Scalar(2) * c * s.wu;
+  }
+  return s;
+}
+
 /// Force on node a and the blocks \f$ K = \partial f_a / \partial x_b \f$,
 /// \f$ D = \partial f_a / \partial v_b \f$ of one spring (see the file comment).
 template <class Scalar>
@@ -48,32 +91,18 @@ struct SpringDerivatives {
   Mat3<Scalar> dfdv;   ///< D (N s/m)
 };
 
+/// The full 3x3 blocks (assemble_jacobians(), tests); the implicit step uses linearise_spring().
 template <class Scalar>
 SpringDerivatives<Scalar> spring_derivatives(const Vec3<Scalar>& xa, const Vec3<Scalar>& xb, const Vec3<Scalar>& va,
                                              const Vec3<Scalar>& vb, Scalar rest_length, Scalar stiffness,
                                              Scalar damping, JacobianVariant variant) {
-  const Vec3<Scalar> d = xb - xa;
-  const Scalar length = d.norm();
-  const Scalar inv_length = Scalar(1) / length;
-  const Vec3<Scalar> u = d * inv_length;
-  const Vec3<Scalar> w = vb - va;
-  const Scalar wu = w.dot(u);
-  const Mat3<Scalar> uu = u * u.transpose();
-
+  const SpringLinearisation<Scalar> s =
+      linearise_spring<Scalar>(xa, xb, va, vb, rest_length, stiffness, damping, variant);
+  const Mat3<Scalar> uu = s.u * s.u.transpose();
   SpringDerivatives<Scalar> out;
-  out.force = (stiffness * (length - rest_length) + damping * wu) * u;
-  // ks u u^T + ks t P = ks t I + ks (1 - t) u u^T with transverse factor t = 1 - l/L.
-  Scalar t = Scalar(1) - rest_length * inv_length;
-  if (variant == JacobianVariant::Spd) t = std::max(t, Scalar(0));
-  out.dfdx = (stiffness * (Scalar(1) - t)) * uu;
-  out.dfdx.diagonal().array() += stiffness * t;
-  if (variant == JacobianVariant::Exact) {
-    // (kd/L) (u (Pw)^T + (w.u) P) = (kd/L) (u w^T + (w.u) I - 2 (w.u) u u^T)
-    const Scalar c = damping * inv_length;
-    out.dfdx.noalias() += c * (u * w.transpose());
-    out.dfdx -= (Scalar(2) * c * wu) * uu;
-    out.dfdx.diagonal().array() += c * wu;
-  }
+  out.force = s.phi * s.u;
+  out.dfdx = s.k_uu * uu + s.k_uw * (s.u * s.w.transpose());
+  out.dfdx.diagonal().array() += s.k_i;
   out.dfdv = damping * uu;
   return out;
 }

@@ -56,9 +56,11 @@ class BlockSparseMatrix {
   /// spring instead of two per spring in block CSR, and about a third of the bytes. Edge rows are
   /// -1 for eliminated nodes (their p is 0); edges are grouped in colours in which no two share a
   /// row, so threads scatter without races and in a fixed order. Set up once (set_edge_form); the
-  /// values (9 per edge, column-major) are written by JacobianAssembler::assemble_system, which
-  /// then calls mark_edge_form_valid(). Direct solvers use the blocks; multiply() and PCG use the
-  /// edge form when it is valid.
+  /// values are written by JacobianAssembler::assemble_system, which then calls
+  /// mark_edge_form_valid(). Each edge's C takes edge_stride() scalars of edge_values(): 9
+  /// (column-major) in general, 6 when every C is symmetric (lower triangle row by row:
+  /// (0,0) (1,0) (1,1) (2,0) (2,1) (2,2)), a third fewer bytes. Direct solvers use the blocks;
+  /// multiply() and PCG use the edge form when it is valid.
   void set_edge_form(std::vector<int> edge_rows, std::vector<int> colour_begin, std::vector<Scalar> row_mass) {
     m_edge_rows = std::move(edge_rows);
     m_edge_colour_begin = std::move(colour_begin);
@@ -67,12 +69,19 @@ class BlockSparseMatrix {
     m_edge_valid = false;
   }
   bool edge_form_valid() const { return m_edge_valid; }
-  void mark_edge_form_valid() { m_edge_valid = !m_edge_rows.empty() || !m_row_mass.empty(); }
+  /// Declares the edge values current; `symmetric`: they are stored as 6 per edge.
+  void mark_edge_form_valid(bool symmetric) {
+    m_edge_valid = !m_edge_rows.empty() || !m_row_mass.empty();
+    m_edge_symmetric = symmetric;
+  }
+  bool edge_form_symmetric() const { return m_edge_symmetric; }
+  int edge_stride() const { return m_edge_symmetric ? 6 : 9; }
   int edge_count() const { return static_cast<int>(m_edge_rows.size() / 2); }
   const std::vector<int>& edge_rows() const { return m_edge_rows; }
   const std::vector<int>& edge_colour_begin() const { return m_edge_colour_begin; }
   const std::vector<Scalar>& row_mass() const { return m_row_mass; }
-  Eigen::Map<Mat3<Scalar>> edge_block(int e) { return Eigen::Map<Mat3<Scalar>>(m_edge_values.data() + 9 * e); }
+  /// Room for 9 scalars per edge; see edge_stride().
+  Scalar* edge_values() { return m_edge_values.data(); }
   const Scalar* edge_values() const { return m_edge_values.data(); }
 
   /// `y = A x` over `threads` threads (rows split statically; each row summed in pattern order, so
@@ -98,19 +107,60 @@ class BlockSparseMatrix {
   std::vector<int> m_edge_rows, m_edge_colour_begin;
   std::vector<Scalar> m_row_mass, m_edge_values;
   bool m_edge_valid = false;
+  bool m_edge_symmetric = false;
 };
 
 namespace detail {
+/// `y += sum_e +-C_e (x_a - x_b)` over the edges in colour order (the scatter of the edge form).
+/// Symmetric C is stored row by row (c00 c10 c11 c20 c21 c22) so that the first two rows of
+/// C d are three 2-vector products (SSE2 for double) and the third a 2-vector dot plus one term.
+template <bool Symmetric, class Scalar>
+void add_edge_products(const BlockSparseMatrix<Scalar>& a, const Scalar* x, Scalar* y) {
+  using Vec2 = Eigen::Matrix<Scalar, 2, 1>;
+  using Vec2Map = Eigen::Map<Vec2>;
+  using ConstVec2Map = Eigen::Map<const Vec2>;
+  const int* er = a.edge_rows().data();
+  const Scalar* c = a.edge_values();
+  const std::vector<int>& colour = a.edge_colour_begin();
+  const int colours = static_cast<int>(colour.size()) - 1;
+  for (int k = 0; k < colours; ++k) {
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+    for (int e = colour[k]; e < colour[k + 1]; ++e) {
+      const int ra = er[2 * e], rb = er[2 * e + 1];
+      if constexpr (Symmetric) {
+        Vec2 d01 = Vec2::Zero();
+        Scalar d2 = 0;
+        if (ra >= 0) { d01 = ConstVec2Map(x + 3 * ra); d2 = x[3 * ra + 2]; }
+        if (rb >= 0) { d01 -= ConstVec2Map(x + 3 * rb); d2 -= x[3 * rb + 2]; }
+        const Scalar* m = c + 6 * e;
+        const ConstVec2Map row2(m + 3);  // (c20, c21) = (c02, c12)
+        const Vec2 t01 = ConstVec2Map(m) * d01[0] + ConstVec2Map(m + 1) * d01[1] + row2 * d2;
+        const Scalar t2 = row2.dot(d01) + m[5] * d2;
+        if (ra >= 0) { Vec2Map(y + 3 * ra) += t01; y[3 * ra + 2] += t2; }
+        if (rb >= 0) { Vec2Map(y + 3 * rb) -= t01; y[3 * rb + 2] -= t2; }
+      } else {
+        Scalar d0 = 0, d1 = 0, d2 = 0;
+        if (ra >= 0) { d0 = x[3 * ra]; d1 = x[3 * ra + 1]; d2 = x[3 * ra + 2]; }
+        if (rb >= 0) { d0 -= x[3 * rb]; d1 -= x[3 * rb + 1]; d2 -= x[3 * rb + 2]; }
+        const Scalar* m = c + 9 * e;
+        const Scalar t0 = m[0] * d0 + m[3] * d1 + m[6] * d2;
+        const Scalar t1 = m[1] * d0 + m[4] * d1 + m[7] * d2;
+        const Scalar t2 = m[2] * d0 + m[5] * d1 + m[8] * d2;
+        if (ra >= 0) { y[3 * ra] += t0; y[3 * ra + 1] += t1; y[3 * ra + 2] += t2; }
+        if (rb >= 0) { y[3 * rb] -= t0; y[3 * rb + 1] -= t1; y[3 * rb + 2] -= t2; }
+      }
+    }
+  }
+}
+
 /// `y = A x` through the edge form, for the calling thread's share of a team already running
 /// (inside an OpenMP parallel region) or serially. Ends with a barrier (the last `omp for`).
 template <class Scalar>
 void edge_multiply_in_team(const BlockSparseMatrix<Scalar>& a, const Scalar* x, Scalar* y) {
   const int rows = a.block_rows();
   const Scalar* mass = a.row_mass().data();
-  const int* er = a.edge_rows().data();
-  const Scalar* c = a.edge_values();
-  const std::vector<int>& colour = a.edge_colour_begin();
-  const int colours = static_cast<int>(colour.size()) - 1;
 #if defined(_OPENMP)
 #pragma omp for schedule(static)
 #endif
@@ -119,23 +169,10 @@ void edge_multiply_in_team(const BlockSparseMatrix<Scalar>& a, const Scalar* x, 
     y[3 * r + 1] = mass[r] * x[3 * r + 1];
     y[3 * r + 2] = mass[r] * x[3 * r + 2];
   }
-  for (int k = 0; k < colours; ++k) {
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-    for (int e = colour[k]; e < colour[k + 1]; ++e) {
-      const int ra = er[2 * e], rb = er[2 * e + 1];
-      Scalar d0 = 0, d1 = 0, d2 = 0;
-      if (ra >= 0) { d0 = x[3 * ra]; d1 = x[3 * ra + 1]; d2 = x[3 * ra + 2]; }
-      if (rb >= 0) { d0 -= x[3 * rb]; d1 -= x[3 * rb + 1]; d2 -= x[3 * rb + 2]; }
-      const Scalar* m = c + 9 * e;
-      const Scalar t0 = m[0] * d0 + m[3] * d1 + m[6] * d2;
-      const Scalar t1 = m[1] * d0 + m[4] * d1 + m[7] * d2;
-      const Scalar t2 = m[2] * d0 + m[5] * d1 + m[8] * d2;
-      if (ra >= 0) { y[3 * ra] += t0; y[3 * ra + 1] += t1; y[3 * ra + 2] += t2; }
-      if (rb >= 0) { y[3 * rb] -= t0; y[3 * rb + 1] -= t1; y[3 * rb + 2] -= t2; }
-    }
-  }
+  if (a.edge_form_symmetric())
+    add_edge_products<true>(a, x, y);
+  else
+    add_edge_products<false>(a, x, y);
 }
 }  // namespace detail
 

@@ -5,7 +5,8 @@
 /// - `ldlt`: `Eigen::SimplicialLDLT` with AMD ordering; symbolic analysis once, numeric
 ///   factorisation per step; reports `NotPositiveDefinite` when a pivot of D is <= 0.
 /// - `lu`: `Eigen::SparseLU` with COLAMD ordering, for the non-symmetric Exact Jacobian.
-/// Pinned DOFs must be eliminated (no filter).
+/// Pinned DOFs must be eliminated (no filter). By name (ImplicitOptions::solver) both are opt-in:
+/// include enable_ldlt.hpp or enable_lu.hpp once in the program (solver_registry.hpp says why).
 
 #include <vector>
 
