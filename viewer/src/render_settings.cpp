@@ -12,6 +12,9 @@
 #include <type_traits>
 #include <unistd.h>
 
+// drape-render offers every solver by name, including the opt-in direct ones.
+#include "drape/solvers/enable_ldlt.hpp"
+#include "drape/solvers/enable_lu.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 
 namespace drape::render {

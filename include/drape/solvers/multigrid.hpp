@@ -36,7 +36,6 @@
 #include <omp.h>
 #endif
 
-#include <Eigen/Cholesky>
 #include <Eigen/LU>  // 3x3 inverse
 
 #include "drape/config.hpp"
@@ -122,8 +121,8 @@ class MultigridPreconditioner {
   MultigridSettings m_settings;
   std::vector<Level> m_levels;
   const BlockSparseMatrix<Scalar>* m_fine = nullptr;
-  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> m_dense;
-  Eigen::LLT<Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>> m_cholesky;
+  std::vector<Scalar> m_coarsest;  // dense Cholesky factor L (row-major, lower) of the coarsest level
+  int m_coarsest_size = 0;
   std::atomic<int> m_failed{0};
   const Scalar* m_r_in = nullptr;
   Scalar* m_z_out = nullptr;
@@ -132,6 +131,41 @@ class MultigridPreconditioner {
 // ---------------------------------------------------------------------------------------------
 
 namespace detail {
+
+/// Dense Cholesky `A = L L^T` of the n x n row-major matrix `a`, in place (L in the lower
+/// triangle). False if `a` is not positive definite. A few dozen rows: plain loops compile in a
+/// fraction of the time Eigen's blocked LLT takes, and run as fast at this size.
+template <class Scalar>
+bool cholesky_in_place(Scalar* a, int n) {
+  for (int j = 0; j < n; ++j) {
+    Scalar d = a[j * n + j];
+    for (int k = 0; k < j; ++k) d -= a[j * n + k] * a[j * n + k];
+    if (!(d > 0) || !std::isfinite(d)) return false;
+    const Scalar l = std::sqrt(d);
+    a[j * n + j] = l;
+    for (int i = j + 1; i < n; ++i) {
+      Scalar s = a[i * n + j];
+      for (int k = 0; k < j; ++k) s -= a[i * n + k] * a[j * n + k];
+      a[i * n + j] = s / l;
+    }
+  }
+  return true;
+}
+
+/// Solves `L L^T x = b` with the factor of cholesky_in_place(); `x` holds b on entry.
+template <class Scalar>
+void cholesky_solve_in_place(const Scalar* l, int n, Scalar* x) {
+  for (int i = 0; i < n; ++i) {
+    Scalar s = x[i];
+    for (int k = 0; k < i; ++k) s -= l[i * n + k] * x[k];
+    x[i] = s / l[i * n + i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    Scalar s = x[i];
+    for (int k = i + 1; k < n; ++k) s -= l[k * n + i] * x[k];
+    x[i] = s / l[i * n + i];
+  }
+}
 
 /// One lattice direction of n nodes coarsened: coarse nodes at the even indices and the last one.
 struct CoarseAxis {
@@ -206,7 +240,9 @@ void MultigridPreconditioner<Scalar>::analyze(const GridLayout& layout, const Bl
   if (!(m_settings.omega > 0 && m_settings.omega <= 1))
     detail::fail_argument("multigrid omega", detail::to_text(m_settings.omega), "(0, 1]");
   detail::require_at_least("multigrid sweeps", m_settings.sweeps, 1);
-  detail::require_at_least("multigrid max_direct_rows", m_settings.max_direct_rows, 1);
+  if (!(m_settings.max_direct_rows >= 1 && m_settings.max_direct_rows <= 256))
+    detail::fail_argument("multigrid max_direct_rows", detail::to_text(m_settings.max_direct_rows),
+                          "1 to 256 (the coarsest level is factorised densely)");
 
   m_levels.clear();
   m_levels.reserve(32);  // levels hold the matrices the next level's set-up points at
@@ -319,8 +355,8 @@ void MultigridPreconditioner<Scalar>::analyze(const GridLayout& layout, const Bl
   finest.r.setZero(a.size());
   finest.inv_diag.assign(9 * static_cast<std::size_t>(finest.rows), Scalar(0));
   const Index n = 3 * static_cast<Index>(m_levels.back().rows);
-  m_dense.setZero(n, n);
-  m_cholesky = Eigen::LLT<Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>>(n);
+  m_coarsest_size = static_cast<int>(n);
+  m_coarsest.assign(static_cast<std::size_t>(n * n), Scalar(0));
   m_fine = &a;
 }
 
@@ -409,12 +445,16 @@ bool MultigridPreconditioner<Scalar>::update_in_team(const BlockSparseMatrix<Sca
     for (int l = std::max(shared, 1); l < levels; ++l) galerkin(l, false);
     for (int l = shared; l < levels - 1; ++l) invert_diagonal(l, false);
     const BlockSparseMatrix<Scalar>& m = matrix(levels - 1);
-    m_dense.setZero();
+    const int n = m_coarsest_size;
+    std::fill(m_coarsest.begin(), m_coarsest.end(), Scalar(0));
     for (int r = 0; r < m.block_rows(); ++r)
-      for (int k = m.row_begin()[static_cast<std::size_t>(r)]; k < m.row_begin()[static_cast<std::size_t>(r) + 1]; ++k)
-        m_dense.template block<3, 3>(3 * r, 3 * m.column()[static_cast<std::size_t>(k)]) = m.block(k);
-    m_cholesky.compute(m_dense);
-    if (m_cholesky.info() != Eigen::Success) m_failed.store(1, std::memory_order_relaxed);
+      for (int k = m.row_begin()[static_cast<std::size_t>(r)]; k < m.row_begin()[static_cast<std::size_t>(r) + 1]; ++k) {
+        const int c = m.column()[static_cast<std::size_t>(k)];
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            m_coarsest[static_cast<std::size_t>((3 * r + i) * n + 3 * c + j)] = m.block(k)(i, j);
+      }
+    if (!detail::cholesky_in_place(m_coarsest.data(), n)) m_failed.store(1, std::memory_order_relaxed);
   }  // implicit barrier: every thread sees the final flag
   return m_failed.load(std::memory_order_relaxed) == 0;
 }
@@ -473,9 +513,9 @@ template <class Scalar>
 void MultigridPreconditioner<Scalar>::cycle(int l, bool team) {
   const int last = level_count() - 1;
   if (l == last) {  // coarsest: exact solve
-    Eigen::Map<VectorX<Scalar>> x(iterate(l), 3 * static_cast<Index>(m_levels[static_cast<std::size_t>(l)].rows));
-    x = Eigen::Map<const VectorX<Scalar>>(rhs(l), x.size());
-    m_cholesky.solveInPlace(x);
+    Scalar* x = iterate(l);
+    std::copy(rhs(l), rhs(l) + m_coarsest_size, x);
+    detail::cholesky_solve_in_place(m_coarsest.data(), m_coarsest_size, x);
     return;
   }
   Level& level = m_levels[static_cast<std::size_t>(l)];
