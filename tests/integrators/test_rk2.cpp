@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "drape/core/parallel.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "test_common.hpp"
@@ -27,6 +28,49 @@ State<double> run(const Cloth<double>& cloth, double dt, double duration) {
 }
 
 }  // namespace
+
+TEMPLATE_TEST_CASE("one fused RK2 step equals the midpoint rule written out with the force pass", "[rk2][stages]",
+                   float, double) {
+  using S = TestType;
+  for (int threads : {1, 2}) {
+    ClothSpec<S> spec;  // the brief's cloth: 6.2k springs, two threads are used
+    spec.boundary = BoundaryCondition::TwoCorners;
+    const Cloth<S> cloth(spec);
+    State<S> s = cloth.initial_state();
+    s.positions = test::jiggled_positions(cloth, S(0.2), 31);
+    s.velocities = test::random_velocities<S>(cloth.node_count(), S(1), 32);
+    s.velocities.col(cloth.pins().nodes().back()) = Vec3<S>(1, -2, 3);  // ignored: pinned
+    const S dt = spec.dt, half = dt / 2;
+    // The midpoint rule of the brief, one Eigen expression per line.
+    const ForceAssembler<S> forces(cloth, 1);
+    const auto acceleration = [&](const Matrix3X<S>& x, const Matrix3X<S>& v) {
+      Matrix3X<S> f(3, cloth.node_count());
+      forces.force(x, v, f);
+      return Matrix3X<S>(f.array().rowwise() / cloth.grid().masses().transpose().array());
+    };
+    Matrix3X<S> x_mid = s.positions + half * s.velocities;
+    Matrix3X<S> v_mid = s.velocities + half * acceleration(s.positions, s.velocities);
+    for (int p : cloth.pins().nodes()) {
+      x_mid.col(p) = s.positions.col(p);
+      v_mid.col(p).setZero();
+    }
+    Matrix3X<S> x_new = s.positions + dt * v_mid;
+    Matrix3X<S> v_new = s.velocities + dt * acceleration(x_mid, v_mid);
+    for (int p : cloth.pins().nodes()) {
+      x_new.col(p) = s.positions.col(p);
+      v_new.col(p).setZero();
+    }
+    Rk2<S> rk2(cloth, threads);
+    REQUIRE(rk2.forces().threads() == std::min(threads, max_threads()));
+    const S t0 = s.time;
+    REQUIRE(rk2.step(s, dt).ok());
+    INFO(threads << " thread(s)");
+    const S eps = std::is_same<S, float>::value ? S(1e-6) : S(1e-14);
+    REQUIRE((s.positions - x_new).cwiseAbs().maxCoeff() <= eps * x_new.cwiseAbs().maxCoeff());
+    REQUIRE((s.velocities - v_new).cwiseAbs().maxCoeff() <= eps * v_new.cwiseAbs().maxCoeff());
+    REQUIRE(s.time == t0 + dt);
+  }
+}
 
 TEST_CASE("RK2 is second order: global error shrinks ~4x when dt halves", "[rk2][convergence]") {
   const Cloth<double> cloth(swing_spec(0.05));

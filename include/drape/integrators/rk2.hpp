@@ -5,8 +5,17 @@
 ///     q = (x, v), \quad F(q) = (v,\; M^{-1} f(x, v)). \f]
 /// Pinned nodes are reset to their position and zero velocity after each stage, so they never move.
 /// Conditionally stable: see docs/parameters.md for the largest stable dt.
+///
+/// One step is one parallel region with four barriers: spring pass at q, node pass fused with the
+/// midpoint update, spring pass at the midpoint, node pass fused with the final update and the
+/// finiteness check (force_assembler.hpp). Bitwise identical for any thread count.
+
+#include <algorithm>
+#include <atomic>
+#include <vector>
 
 #include "drape/core/cloth.hpp"
+#include "drape/core/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/integrators/step_status.hpp"
 #include "drape/physics/force_assembler.hpp"
@@ -26,52 +35,109 @@ class Rk2 {
   const ForceAssembler<Scalar>& forces() const { return m_forces; }
 
  private:
-  /// a = M^-1 f (pinned nodes are reset after each stage instead).
-  void accelerations(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Matrix3X<Scalar>& acc);
-
   ForceAssembler<Scalar> m_forces;
   VectorX<Scalar> m_inverse_mass;
-  Matrix3X<Scalar> m_acc, m_x_mid, m_v_mid, m_x_new, m_v_new;
+  /// Midpoint positions and velocities, one array per component (stride-1 input of the second
+  /// spring pass).
+  std::vector<Scalar> m_midpoint;
+  Matrix3X<Scalar> m_x_new, m_v_new;
 };
 
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-Rk2<Scalar>::Rk2(const Cloth<Scalar>& cloth, int threads) : m_forces(cloth, threads) {
-  const int n = cloth.node_count();
-  m_inverse_mass = cloth.grid().masses().cwiseInverse();
-  for (Matrix3X<Scalar>* m : {&m_acc, &m_x_mid, &m_v_mid, &m_x_new, &m_v_new}) m->resize(3, n);
-}
-
-template <class Scalar>
-void Rk2<Scalar>::accelerations(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Matrix3X<Scalar>& acc) {
-  m_forces.force(x, v, acc);
-  acc.array().rowwise() *= m_inverse_mass.transpose().array();
-}
+Rk2<Scalar>::Rk2(const Cloth<Scalar>& cloth, int threads)
+    : m_forces(cloth, threads),
+      m_inverse_mass(cloth.grid().masses().cwiseInverse()),
+      m_midpoint(6 * std::size_t(cloth.node_count())),
+      m_x_new(3, cloth.node_count()),
+      m_v_new(3, cloth.node_count()) {}
 
 template <class Scalar>
 StepStatus Rk2<Scalar>::step(State<Scalar>& state, Scalar dt) {
   detail::require_positive_finite("dt", dt);
-  if (state.positions.cols() != m_inverse_mass.size() || state.velocities.cols() != m_inverse_mass.size())
+  const Index n = m_inverse_mass.size();
+  if (state.positions.cols() != n || state.velocities.cols() != n)
     detail::fail_argument("state", detail::to_text(state.positions.cols()) + " nodes",
-                          detail::to_text(m_inverse_mass.size()) + " nodes (the cloth's)");
+                          detail::to_text(n) + " nodes (the cloth's)");
   const Scalar half = Scalar(0.5) * dt;
-  // Midpoint: q_mid = q + dt/2 F(q).
-  accelerations(state.positions, state.velocities, m_acc);
-  m_x_mid = state.positions + half * state.velocities;
-  m_v_mid = state.velocities + half * m_acc;
-  // Pinned nodes stay put whatever velocity the caller left on them.
-  for (int p : m_forces.cloth().pins().nodes()) {
-    m_x_mid.col(p) = state.positions.col(p);
-    m_v_mid.col(p).setZero();
-  }
-  // Full step with the midpoint slope.
-  accelerations(m_x_mid, m_v_mid, m_acc);
-  m_x_new = state.positions + dt * m_v_mid;
-  m_v_new = state.velocities + dt * m_acc;
-  // Pinned nodes: v_mid = 0 already keeps x_new = x; the velocity must be zeroed explicitly.
-  for (int p : m_forces.cloth().pins().nodes()) m_v_new.col(p).setZero();
-  if (!(m_x_new.allFinite() && m_v_new.allFinite())) return {StepError::NonFiniteState, 0, 0.0};
+  const Scalar* x = state.positions.data();
+  const Scalar* v = state.velocities.data();
+  Scalar* x_new = m_x_new.data();
+  Scalar* v_new = m_v_new.data();
+  Scalar* const x_mid[3] = {&m_midpoint[0], &m_midpoint[std::size_t(n)], &m_midpoint[2 * std::size_t(n)]};
+  Scalar* const v_mid[3] = {&m_midpoint[3 * std::size_t(n)], &m_midpoint[4 * std::size_t(n)],
+                            &m_midpoint[5 * std::size_t(n)]};
+  const Scalar* inverse_mass = m_inverse_mass.data();
+  const std::vector<int>& pins = m_forces.cloth().pins().nodes();
+  // Pins inside [begin, end): pins are sorted.
+  const auto pins_in = [&](Index begin, Index end) {
+    return std::make_pair(std::lower_bound(pins.begin(), pins.end(), begin),
+                          std::lower_bound(pins.begin(), pins.end(), end));
+  };
+  std::atomic<bool> finite{true};
+
+  run_in_team(m_forces.threads(), [&] {
+    // Midpoint: q_mid = q + dt/2 F(q).
+    m_forces.spring_pass(node_view(state.positions), node_view(state.velocities));
+    team_barrier();
+    m_forces.node_pass([&](const ForceBlock<Scalar>& block) {
+      const Index i0 = block.begin;
+      for (int k = 0; k < 3; ++k) {
+        const Scalar* f = block.f[k];
+        Scalar* xm = x_mid[k] + i0;
+        Scalar* vm = v_mid[k] + i0;
+        DRAPE_OMP_SIMD
+        for (int j = 0; j < block.count; ++j) {
+          const Index i = i0 + j;
+          xm[j] = x[3 * i + k] + half * v[3 * i + k];
+          vm[j] = v[3 * i + k] + half * (f[j] * inverse_mass[i]);
+        }
+      }
+      // Pinned nodes stay put whatever velocity the caller left on them.
+      const auto pinned = pins_in(i0, i0 + block.count);
+      for (auto p = pinned.first; p != pinned.second; ++p) {
+        for (int k = 0; k < 3; ++k) {
+          x_mid[k][*p] = x[3 * *p + k];
+          v_mid[k][*p] = 0;
+        }
+      }
+    });
+    team_barrier();
+    // Full step with the midpoint slope.
+    m_forces.spring_pass(NodeView<Scalar, 1>{{x_mid[0], x_mid[1], x_mid[2]}},
+                         NodeView<Scalar, 1>{{v_mid[0], v_mid[1], v_mid[2]}});
+    team_barrier();
+    // NaN if any new value is not finite (0 * inf = NaN), else 0.
+    Scalar probe = 0;
+    m_forces.node_pass([&](const ForceBlock<Scalar>& block) {
+      const Index i0 = block.begin;
+      for (int k = 0; k < 3; ++k) {
+        const Scalar* f = block.f[k];
+        const Scalar* vm = v_mid[k] + i0;
+        DRAPE_OMP_SIMD
+        for (int j = 0; j < block.count; ++j) {
+          const Index i = i0 + j;
+          x_new[3 * i + k] = x[3 * i + k] + dt * vm[j];
+          v_new[3 * i + k] = v[3 * i + k] + dt * (f[j] * inverse_mass[i]);
+        }
+      }
+      const auto pinned = pins_in(i0, i0 + block.count);
+      for (auto p = pinned.first; p != pinned.second; ++p) {
+        for (int k = 0; k < 3; ++k) {
+          x_new[3 * *p + k] = x[3 * *p + k];
+          v_new[3 * *p + k] = 0;
+        }
+      }
+      const Scalar* xn = x_new + 3 * i0;
+      const Scalar* vn = v_new + 3 * i0;
+      DRAPE_OMP_SIMD_SUM(probe)
+      for (int j = 0; j < 3 * block.count; ++j) probe += xn[j] * 0 + vn[j] * 0;
+    });
+    if (!(probe == 0)) finite.store(false, std::memory_order_relaxed);
+  });
+
+  if (!finite.load(std::memory_order_relaxed)) return {StepError::NonFiniteState, 0, 0.0};
   state.positions.swap(m_x_new);
   state.velocities.swap(m_v_new);
   state.time += dt;

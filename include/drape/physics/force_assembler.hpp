@@ -4,82 +4,217 @@
 ///
 /// Forces are computed for pinned nodes too (the negative of a pinned node's force is the reaction
 /// its pin exerts, see diagnostics.hpp); the integrators ignore them.
-/// Threading: springs are processed colour by colour (spring_set.hpp), each colour split statically
-/// between threads. Every node receives its contributions in the same order whatever the thread
-/// count, so results are bitwise identical for 1 and N threads.
+///
+/// Two phases with one barrier between them (spring_families.hpp explains the storage):
+/// 1. `spring_pass`: every spring's force on its first node, run by run, into per-family force
+///    slots. A run's ends are contiguous in memory, so the loop vectorises (SSE2 by default).
+/// 2. `node_pass`: every node sums gravity and its springs' slots, in blocks of `block_nodes`
+///    nodes, in a fixed order: results are bitwise identical for any thread count.
+/// Both are public so that an integrator can fuse its own node updates into phase 2 and run a
+/// whole step in one parallel region (rk2.hpp).
+
+#include <algorithm>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "drape/config.hpp"
 #include "drape/core/cloth.hpp"
 #include "drape/core/parallel.hpp"
+#include "drape/core/team.hpp"
+#include "drape/physics/spring_families.hpp"
 #include "drape/physics/spring_kernel.hpp"
 
 namespace drape {
 
+/// Read-only `3 x n` node data: component k of node i at `p[k][Stride * i]`. Stride 3 views a
+/// `Matrix3X`, stride 1 three separate component arrays.
+template <class Scalar, int Stride>
+struct NodeView {
+  const Scalar* p[3];
+};
+
+/// Stride-3 view of a `Matrix3X`.
+template <class Scalar>
+NodeView<Scalar, 3> node_view(const Matrix3X<Scalar>& m) {
+  return {{m.data(), m.data() + 1, m.data() + 2}};
+}
+
+/// Total forces of the nodes [begin, begin + count): component k of node begin + j is `f[k][j]`.
+template <class Scalar>
+struct ForceBlock {
+  Index begin;
+  int count;
+  const Scalar* f[3];
+};
+
 template <class Scalar = double>
 class ForceAssembler {
  public:
-  /// Springs per thread below which extra threads are not woken.
-  static constexpr long long min_springs_per_thread = 4096;
+  /// Springs per thread below which extra threads are not woken (measured: bench/analysis.md).
+  static constexpr long long min_springs_per_thread = 2048;
+  /// Nodes per block of node_pass: fixed, so the work per node does not depend on the threads.
+  static constexpr int block_nodes = 64;
 
   /// \param threads 0 = all available (max_threads()).
-  explicit ForceAssembler(const Cloth<Scalar>& cloth, int threads = 0) : m_cloth(&cloth), m_threads(threads) {}
+  explicit ForceAssembler(const Cloth<Scalar>& cloth, int threads = 0);
 
   /// `f = spring forces(x, v) + M g`, `3 x n`; `f` must already have the right size.
+  /// Not for concurrent calls on the same object (it uses the object's scratch memory).
   void force(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Matrix3X<Scalar>& f) const;
 
   const Cloth<Scalar>& cloth() const { return *m_cloth; }
   int threads() const { return effective_threads(m_threads, m_cloth->springs().size(), min_springs_per_thread); }
+  const SpringFamilies<Scalar>& families() const { return m_families; }
+
+  /// Phase 1 for this thread's share of the runs (call from every thread of a team, then
+  /// team_barrier() before node_pass).
+  template <int Stride>
+  void spring_pass(const NodeView<Scalar, Stride>& x, const NodeView<Scalar, Stride>& v) const;
+
+  /// Phase 2 for this thread's share of the node blocks: calls `fn(const ForceBlock<Scalar>&)` with
+  /// each block's total forces. No barrier at the end.
+  template <class BlockFn>
+  void node_pass(BlockFn&& fn) const;
 
  private:
+  /// `out[j] = (start ? start[j] : mass[j] * g) + sum over q < K of (as_first[q][j] - as_second[q][j])`,
+  /// summed in q order.
+  template <int K>
+  static void add_families(Scalar* out, const Scalar* start, const Scalar* mass, Scalar g,
+                           const Scalar* const* as_first, const Scalar* const* as_second, int count) {
+    DRAPE_OMP_SIMD
+    for (Index j = 0; j < count; ++j) {
+      Scalar t = start ? start[j] : mass[j] * g;
+      for (int q = 0; q < K; ++q) t += as_first[q][j] - as_second[q][j];
+      out[j] = t;
+    }
+  }
+
+  Scalar* slots(int family, int component) const {
+    return m_slots.data() + (std::size_t(family) * 3 + std::size_t(component)) * std::size_t(m_families.slot_count()) +
+           std::size_t(m_families.padding());
+  }
+
   const Cloth<Scalar>* m_cloth;
   int m_threads;
+  SpringFamilies<Scalar> m_families;
+  /// Per family and component: the force of the spring whose first node is i at slot i, 0 where
+  /// there is no spring (those slots are never written).
+  mutable std::vector<Scalar> m_slots;
 };
 
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-void ForceAssembler<Scalar>::force(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Matrix3X<Scalar>& f) const {
-  const Cloth<Scalar>& cloth = *m_cloth;
-  const SpringSet<Scalar>& springs = cloth.springs();
-  DRAPE_ASSERT(x.cols() == cloth.node_count() && v.cols() == cloth.node_count() && f.cols() == cloth.node_count(),
-               "force(): x, v and f must have one column per node");
-  const int* a = springs.a().data();
-  const int* b = springs.b().data();
-  const Scalar* rest = springs.rest_length().data();
-  const Scalar* ks = springs.stiffness().data();
-  const Scalar* kd = springs.damping().data();
-  const std::vector<int>& colour = springs.colour_begin();
-  const int colours = springs.colour_count();
-  const Scalar* masses = cloth.grid().masses().data();
-  const Vec3<Scalar> g = cloth.gravity();
-  const Index n = cloth.node_count();
+ForceAssembler<Scalar>::ForceAssembler(const Cloth<Scalar>& cloth, int threads)
+    : m_cloth(&cloth),
+      m_threads(threads),
+      m_families(cloth.springs(), cloth.node_count()),
+      m_slots(std::size_t(m_families.family_count()) * 3 * std::size_t(m_families.slot_count()), Scalar(0)) {}
 
-  const auto body = [&]() {
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-    for (Index i = 0; i < n; ++i) f.col(i) = masses[i] * g;
-    for (int c = 0; c < colours; ++c) {
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-      for (int s = colour[c]; s < colour[c + 1]; ++s) {
-        const Vec3<Scalar> fa =
-            spring_force<Scalar>(x.col(a[s]), x.col(b[s]), v.col(a[s]), v.col(b[s]), rest[s], ks[s], kd[s]);
-        f.col(a[s]) += fa;
-        f.col(b[s]) -= fa;
+template <class Scalar>
+template <int Stride>
+void ForceAssembler<Scalar>::spring_pass(const NodeView<Scalar, Stride>& x, const NodeView<Scalar, Stride>& v) const {
+  constexpr int max_run = SpringFamilies<Scalar>::max_run_length;
+  // One run at a time in three vectorised loops: gather d, |d|^2, w.d; sqrt; factor and force.
+  alignas(64) Scalar d[3][max_run];
+  alignas(64) Scalar length[max_run];
+  alignas(64) Scalar w_dot_d[max_run];
+  const std::vector<typename SpringFamilies<Scalar>::Run>& runs = m_families.runs();
+  const std::vector<int>& offsets = m_families.offsets();
+  const auto share = m_families.run_share(team_rank(), team_size());
+  for (int r = share.first; r < share.second; ++r) {
+    const typename SpringFamilies<Scalar>::Run& run = runs[std::size_t(r)];
+    const Index a = Stride * Index(run.first), b = a + Stride * Index(offsets[std::size_t(run.family)]);
+    const Index count = run.count;
+    const Scalar *xa0 = x.p[0] + a, *xa1 = x.p[1] + a, *xa2 = x.p[2] + a;
+    const Scalar *xb0 = x.p[0] + b, *xb1 = x.p[1] + b, *xb2 = x.p[2] + b;
+    const Scalar *va0 = v.p[0] + a, *va1 = v.p[1] + a, *va2 = v.p[2] + a;
+    const Scalar *vb0 = v.p[0] + b, *vb1 = v.p[1] + b, *vb2 = v.p[2] + b;
+    DRAPE_OMP_SIMD
+    for (Index j = 0; j < count; ++j) {
+      const Scalar d0 = xb0[Stride * j] - xa0[Stride * j];
+      const Scalar d1 = xb1[Stride * j] - xa1[Stride * j];
+      const Scalar d2 = xb2[Stride * j] - xa2[Stride * j];
+      d[0][j] = d0;
+      d[1][j] = d1;
+      d[2][j] = d2;
+      length[j] = d0 * d0 + d1 * d1 + d2 * d2;
+      w_dot_d[j] = (vb0[Stride * j] - va0[Stride * j]) * d0 + (vb1[Stride * j] - va1[Stride * j]) * d1 +
+                   (vb2[Stride * j] - va2[Stride * j]) * d2;
+    }
+    // Eigen's packet sqrt: the compiler does not vectorise std::sqrt unless -fno-math-errno.
+    Eigen::Map<Eigen::Array<Scalar, Eigen::Dynamic, 1>, Eigen::Aligned16> squared(length, count);
+    squared = squared.sqrt();
+    Scalar* f0 = slots(run.family, 0) + run.first;
+    Scalar* f1 = slots(run.family, 1) + run.first;
+    Scalar* f2 = slots(run.family, 2) + run.first;
+    DRAPE_OMP_SIMD
+    for (Index j = 0; j < count; ++j) {
+      const Scalar c = spring_force_factor(length[j], w_dot_d[j], run.rest_length, run.stiffness, run.damping);
+      f0[j] = c * d[0][j];
+      f1[j] = c * d[1][j];
+      f2[j] = c * d[2][j];
+    }
+  }
+}
+
+template <class Scalar>
+template <class BlockFn>
+void ForceAssembler<Scalar>::node_pass(BlockFn&& fn) const {
+  alignas(64) Scalar total[3][block_nodes];
+  const Index n = m_cloth->node_count();
+  const Scalar* masses = m_cloth->grid().masses().data();
+  const Vec3<Scalar> g = m_cloth->gravity();
+  const int families = m_families.family_count();
+  const std::vector<int>& offsets = m_families.offsets();
+  const auto share = even_share((n + block_nodes - 1) / block_nodes, team_rank(), team_size());
+  for (long long block = share.first; block < share.second; ++block) {
+    const Index begin = Index(block) * block_nodes;
+    const int count = int(std::min<Index>(block_nodes, n - begin));
+    for (int k = 0; k < 3; ++k) {
+      // Node i is the first node of slot i and the second node of slot i - offset; families are
+      // added three at a time, always in family order.
+      const Scalar* as_first[3];
+      const Scalar* as_second[3];
+      for (int family = 0; family < families || family == 0; family += 3) {
+        const int group = std::min(3, families - family);
+        for (int q = 0; q < group; ++q) {
+          as_first[q] = slots(family + q, k) + begin;
+          as_second[q] = as_first[q] - offsets[std::size_t(family + q)];
+        }
+        const Scalar* start = family == 0 ? nullptr : total[k];
+        switch (group) {
+          case 3: add_families<3>(total[k], start, masses + begin, g[k], as_first, as_second, count); break;
+          case 2: add_families<2>(total[k], start, masses + begin, g[k], as_first, as_second, count); break;
+          case 1: add_families<1>(total[k], start, masses + begin, g[k], as_first, as_second, count); break;
+          default: add_families<0>(total[k], start, masses + begin, g[k], as_first, as_second, count); break;
+        }
       }
     }
-  };
-#if defined(_OPENMP)
-  const int t = threads();
-  if (t > 1) {
-#pragma omp parallel num_threads(t)
-    body();
-    return;
+    fn(ForceBlock<Scalar>{begin, count, {total[0], total[1], total[2]}});
   }
-#endif
-  body();
+}
+
+template <class Scalar>
+void ForceAssembler<Scalar>::force(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Matrix3X<Scalar>& f) const {
+  const Index n = m_cloth->node_count();
+  DRAPE_ASSERT(x.cols() == n && v.cols() == n && f.cols() == n, "force(): x, v and f must have one column per node");
+  (void)n;
+  Scalar* out = f.data();
+  run_in_team(threads(), [&] {
+    spring_pass(node_view(x), node_view(v));
+    team_barrier();
+    node_pass([&](const ForceBlock<Scalar>& block) {
+      Scalar* o = out + 3 * block.begin;
+      for (int k = 0; k < 3; ++k) {
+        const Scalar* t = block.f[k];
+        DRAPE_OMP_SIMD
+        for (int j = 0; j < block.count; ++j) o[3 * j + k] = t[j];
+      }
+    });
+  });
 }
 
 }  // namespace drape
