@@ -32,13 +32,10 @@
 #include <string>
 #include <vector>
 
-#if defined(_OPENMP)
-#include <omp.h>
-#endif
-
 #include <Eigen/LU>  // 3x3 inverse
 
 #include "drape/config.hpp"
+#include "drape/core/team.hpp"
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/solvers/block_sparse_matrix.hpp"
@@ -361,14 +358,6 @@ void MultigridPreconditioner<Scalar>::analyze(const GridLayout& layout, const Bl
 }
 
 namespace detail {
-inline bool in_parallel_region() {
-#if defined(_OPENMP)
-  return omp_in_parallel() != 0;
-#else
-  return false;
-#endif
-}
-
 /// `body(i)` for i in [0, n): shared by the team (`omp for`, ends with a barrier) or all by the caller.
 template <class Body>
 void for_rows(bool team, int n, Body&& body) {
@@ -466,7 +455,7 @@ void MultigridPreconditioner<Scalar>::residual(int l, const Scalar* b, const Sca
   // per spring instead of two, block_sparse_matrix.hpp); with a team it would cost a barrier per
   // spring colour, so the team uses block rows. (Never inside an `omp single`: the edge product
   // shares its loops with the team.)
-  if (l == 0 && !team && m.edge_form_valid() && !detail::in_parallel_region()) {
+  if (l == 0 && !team && m.edge_form_valid() && team_size() == 1) {
     detail::edge_multiply_in_team(m, x, r);
     for (int i = 0; i < 3 * m.block_rows(); ++i) r[i] = b[i] - r[i];
     return;
