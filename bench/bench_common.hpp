@@ -79,11 +79,18 @@ inline const Scene& scene(int n) {
 }
 
 /// Names are `family/key=value/.../n:N/threads:T`; scripts/bench_report.py parses them.
+/// Minimum timed seconds per repetition: `quick_min_time` for most families; the families the
+/// targets are read from get `headline_min_time`, so a 0.2 s step at 257 x 257 is averaged over
+/// several steps instead of timed once (single steps there varied by 1.5x on the shared machine).
+inline constexpr double quick_min_time = 0.1;
+inline constexpr double headline_min_time = 1.0;
+
 /// Adds the grid sizes up to `max_n` as arguments, each with the thread counts `threads`
 /// (empty: not a threaded benchmark, no thread argument).
 inline benchmark::internal::Benchmark* sized(benchmark::internal::Benchmark* b, const std::vector<int>& threads,
-                                             benchmark::TimeUnit unit, int max_n = 257) {
-  b->Unit(unit)->MinTime(0.1);
+                                             benchmark::TimeUnit unit, int max_n = 257,
+                                             double min_time = quick_min_time) {
+  b->Unit(unit)->MinTime(min_time);
   if (!threads.empty()) {
     b->ArgNames({"n", "threads"});
     for (int n : grid_sizes)

@@ -292,12 +292,13 @@ const bool registered = [] {
       const std::string rest = std::string("/solver=") + p.solver + "/jacobian=" + drape::to_string(p.jacobian) + dt_label(ts);
       sized(RegisterBenchmark(name("implicit_step", "drape", rest).c_str(), implicit_step_drape, std::string(p.solver),
                               p.jacobian, ts.dt),
-            *p.threads, benchmark::kMillisecond, p.max_n);
+            *p.threads, benchmark::kMillisecond, p.max_n,
+            p.solver == defaults.solver && p.jacobian == defaults.jacobian ? headline_min_time : quick_min_time);
     }
   }
   for (const TimeStep& ts : time_steps)
     sized(RegisterBenchmark(name("implicit_step", "baseline", dt_label(ts)).c_str(), implicit_step_baseline, ts.dt),
-          serial, benchmark::kMillisecond, 129);
+          serial, benchmark::kMillisecond, 129, headline_min_time);
   RegisterBenchmark(name("implicit_step", "baseline", "/dt=1_60").c_str(), implicit_step_baseline, 1.0 / 60.0)
       ->ArgNames({"n"})
       ->Args({257})
