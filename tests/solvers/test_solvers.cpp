@@ -90,27 +90,35 @@ TEST_CASE("filtered pins (PCG over all nodes) and eliminated pins give the same 
   JacobianAssembler<double> with_all(cloth, PinTreatment::Filter, 1);
   REQUIRE(filtered.b.size() == eliminated.b.size() + 3 * cloth.pins().count());
   const VectorX<double> direct = solve_with("ldlt", eliminated);
-  for (const std::string name : {"cg", "bicgstab"}) {
-    IterativeSettings settings;
-    settings.tolerance = 1e-10;
-    auto solver = make_linear_solver<double>(name, settings);
-    REQUIRE(solver->supports_filter());
-    solver->analyze(filtered.a);
-    VectorX<double> x = VectorX<double>::Ones(filtered.b.size());  // a warm start that violates the pins
-    const StepStatus status = solver->solve(filtered.a, filtered.b, x, with_all.filter().data());
-    REQUIRE(status.ok());
-    // Free rows agree with the eliminated solve, pinned rows are exactly zero.
-    VectorX<double> free(direct.size());
-    for (int node = 0, r = 0; node < cloth.node_count(); ++node) {
-      if (cloth.pins().is_pinned(node)) {
-        CHECK(x.segment<3>(3 * node).isZero(0.0));
-        continue;
+  // PCG multiplies by the edge form on one thread and by block rows otherwise (a team, or a matrix
+  // without an edge form): both must apply the filter.
+  BlockSparseMatrix<double> blocks_only = filtered.a;
+  blocks_only.set_edge_form({}, {0}, {});
+  REQUIRE(filtered.a.edge_form_valid());
+  REQUIRE_FALSE(blocks_only.edge_form_valid());
+  const BlockSparseMatrix<double>* const forms[] = {&filtered.a, &blocks_only};
+  for (const std::string name : {"cg", "bicgstab"})
+    for (const BlockSparseMatrix<double>* a : forms) {
+      INFO(name << (a == &blocks_only ? ", block rows" : ", edge form"));
+      IterativeSettings settings;
+      settings.tolerance = 1e-10;
+      auto solver = make_linear_solver<double>(name, settings);
+      REQUIRE(solver->supports_filter());
+      solver->analyze(*a);
+      VectorX<double> x = VectorX<double>::Ones(filtered.b.size());  // a warm start that violates the pins
+      const StepStatus status = solver->solve(*a, filtered.b, x, with_all.filter().data());
+      REQUIRE(status.ok());
+      // Free rows agree with the eliminated solve, pinned rows are exactly zero.
+      VectorX<double> free(direct.size());
+      for (int node = 0, r = 0; node < cloth.node_count(); ++node) {
+        if (cloth.pins().is_pinned(node)) {
+          CHECK(x.segment<3>(3 * node).isZero(0.0));
+          continue;
+        }
+        free.segment<3>(3 * r++) = x.segment<3>(3 * node);
       }
-      free.segment<3>(3 * r++) = x.segment<3>(3 * node);
+      CHECK(relative_difference(free, direct) < 1e-8);
     }
-    INFO(name);
-    CHECK(relative_difference(free, direct) < 1e-8);
-  }
 }
 
 TEST_CASE("CG and LDLT report an indefinite system instead of returning garbage", "[solvers]") {
