@@ -14,7 +14,7 @@ void force_assembly_drape(benchmark::State& st) {
   const drape::ForceAssembler<double> forces(*sc.cloth, int(st.range(1)));
   drape::Matrix3X<double> f(3, sc.cloth->node_count());
   for (auto _ : st) {
-    forces.force(sc.warm.positions, sc.warm.velocities, f);
+    forces.force(sc.warm.positions, sc.warm.velocities, sc.warm.time, f);
     benchmark::DoNotOptimize(f.data());
     benchmark::ClobberMemory();
   }
@@ -37,16 +37,15 @@ void force_assembly_baseline(benchmark::State& st) {
 
 void rk2_step_drape(benchmark::State& st) {
   const Scene& sc = scene(int(st.range(0)));
-  drape::Rk2<double> rk2(*sc.cloth, int(st.range(1)));
-  const double dt = drape::ClothSpec<double>::default_dt();
-  run_steps(st, sc, rk2_window, [&](drape::State<double>& s) { return rk2.step(s, dt); });
+  drape::Rk2<double> rk2(*sc.cloth, {drape::IntegratorOptions{}.dt, int(st.range(1))});  // the default dt
+  run_steps(st, sc, rk2_window, [&](drape::State<double>& s) { return rk2.step(s); });
   st.counters["threads_used"] = rk2.forces().threads();
 }
 
 void rk2_step_baseline(benchmark::State& st) {
   const Scene& sc = scene(int(st.range(0)));
   BaselineRk2 rk2(*sc.cloth);
-  const double dt = drape::ClothSpec<double>::default_dt();
+  const double dt = drape::IntegratorOptions{}.dt;
   run_steps(st, sc, rk2_window, [&](drape::State<double>& s) { return rk2.step(s, dt); });
 }
 

@@ -30,48 +30,61 @@ struct TimeStep {
 };
 constexpr TimeStep time_steps[] = {{"0.01", 0.01}, {"1_60", 1.0 / 60.0}};
 
+/// A linear solver as the benchmarks run it: the library's solver and, for cg, its preconditioner.
+struct SolverSetup {
+  drape::LinearSolverKind solver;
+  drape::PreconditionerKind preconditioner = ImplicitOptions{}.preconditioner;
+
+  bool available() const { return drape::solver_available(solver); }
+  bool iterative() const { return drape::solver_info(solver).capabilities.iterative; }
+  /// The benchmark-name fragment: `/solver=cg/preconditioner=multigrid`, `/solver=cholmod`.
+  std::string name() const {
+    std::string out = std::string("/solver=") + drape::to_string(solver);
+    if (solver == drape::LinearSolverKind::Cg) out += std::string("/preconditioner=") + drape::to_string(preconditioner);
+    return out;
+  }
+  /// Largest grid of the direct solvers' benchmarks (see step_plans).
+  int max_n() const {
+    using K = drape::LinearSolverKind;
+    return solver == K::Ldlt || solver == K::Lu ? 65 : solver == K::Umfpack ? 129 : 257;
+  }
+};
+
+using Kind = drape::LinearSolverKind;
+/// Every solver measured; cg with block Jacobi (the default before multigrid) is kept as the
+/// reference that shows what the multigrid preconditioner buys.
+const SolverSetup solver_setups[] = {
+    {Kind::Cg, drape::PreconditionerKind::Multigrid}, {Kind::Cg, drape::PreconditionerKind::BlockJacobi},
+    {Kind::Bicgstab}, {Kind::Cholmod}, {Kind::Umfpack}, {Kind::Ldlt}, {Kind::Lu}};
+
 /// What the implicit-step family runs. The default (cg, Spd) gets both time steps and 1 and 2
 /// threads; the other solvers and variants run at dt = 1/60 on 2 threads for comparison. Eigen's
 /// simplicial LDLT and SparseLU stop at 65 x 65 and UMFPACK at 129 x 129: one of their steps takes
 /// tens of seconds at 257 x 257 (measured: a 257 x 257 solve took 27 s with either), which would
 /// make the suite run for an hour without telling anything new.
 struct StepPlan {
-  const char* solver;
+  SolverSetup setup;
   JacobianVariant jacobian;
   bool both_time_steps;
   const std::vector<int>* threads;
-  int max_n;
 };
 const StepPlan step_plans[] = {
-    {"cg", JacobianVariant::Spd, true, &one_and_two, 257},
-    {"cg", JacobianVariant::Symmetric, false, &two, 257},
-    {"cg-jacobi", JacobianVariant::Spd, false, &one_and_two, 257},
-    {"bicgstab", JacobianVariant::Spd, false, &two, 257},
-    {"bicgstab", JacobianVariant::Exact, false, &two, 257},
-    {"cholmod", JacobianVariant::Spd, true, &two, 257},
-    {"umfpack", JacobianVariant::Exact, false, &two, 129},
-    {"ldlt", JacobianVariant::Spd, false, &two, 65},
-    {"lu", JacobianVariant::Exact, false, &two, 65},
+    {{Kind::Cg, drape::PreconditionerKind::Multigrid}, JacobianVariant::Spd, true, &one_and_two},
+    {{Kind::Cg, drape::PreconditionerKind::Multigrid}, JacobianVariant::Symmetric, false, &two},
+    {{Kind::Cg, drape::PreconditionerKind::BlockJacobi}, JacobianVariant::Spd, false, &one_and_two},
+    {{Kind::Bicgstab}, JacobianVariant::Spd, false, &two},
+    {{Kind::Bicgstab}, JacobianVariant::Exact, false, &two},
+    {{Kind::Cholmod}, JacobianVariant::Spd, true, &two},
+    {{Kind::Umfpack}, JacobianVariant::Exact, false, &two},
+    {{Kind::Ldlt}, JacobianVariant::Spd, false, &two},
+    {{Kind::Lu}, JacobianVariant::Exact, false, &two},
 };
-/// Largest grid of the direct solvers' linear-solve and set-up benchmarks (see step_plans).
-int max_n_of(const std::string& solver) {
-  return solver == "ldlt" || solver == "lu" ? 65 : solver == "umfpack" ? 129 : 257;
-}
 
-/// "cg-jacobi" is cg with the block-Jacobi preconditioner (the default before multigrid), kept as
-/// the reference that shows what the multigrid preconditioner buys.
-std::string solver_name(const std::string& solver) { return solver == "cg-jacobi" ? "cg" : solver; }
-
-bool available(const std::string& solver) {
-  const std::vector<std::string> names = drape::available_solvers();
-  return std::find(names.begin(), names.end(), solver_name(solver)) != names.end();
-}
-bool iterative(const std::string& solver) { return solver_name(solver) == "cg" || solver == "bicgstab"; }
-
-ImplicitOptions options(const std::string& solver, JacobianVariant jacobian, int threads) {
+ImplicitOptions options(const SolverSetup& setup, JacobianVariant jacobian, int threads, double dt) {
   ImplicitOptions o;  // defaults: tolerance 1e-6, iteration cap, eliminated pins
-  o.solver = solver_name(solver);
-  if (solver == "cg-jacobi") o.preconditioner = drape::Preconditioner::BlockJacobi;
+  o.dt = dt;
+  o.solver = setup.solver;
+  o.preconditioner = setup.preconditioner;
   o.jacobian = jacobian;
   o.threads = threads;
   return o;
@@ -86,12 +99,11 @@ std::string name(const char* family, const std::string& impl, const std::string&
 void jacobian_assembly_drape(benchmark::State& st, JacobianVariant jacobian) {
   const Scene& sc = scene(int(st.range(0)));
   const drape::JacobianAssembler<double> assembler(*sc.cloth, drape::PinTreatment::Eliminate, int(st.range(1)));
-  drape::BlockSparseMatrix<double> a = assembler.make_matrix();
-  drape::VectorX<double> rhs(a.size());
+  drape::LinearSystem<double> system = assembler.make_system();
   for (auto _ : st) {
-    assembler.assemble_system(sc.warm.positions, sc.warm.velocities, 1.0 / 60.0, jacobian, a, rhs);
-    benchmark::DoNotOptimize(a.values());
-    benchmark::DoNotOptimize(rhs.data());
+    assembler.assemble_system(sc.warm.positions, sc.warm.velocities, sc.warm.time, 1.0 / 60.0, jacobian, system);
+    benchmark::DoNotOptimize(system.matrix.values());
+    benchmark::DoNotOptimize(system.rhs.data());
     benchmark::ClobberMemory();
   }
   st.counters["threads_used"] = assembler.threads();
@@ -119,9 +131,8 @@ void jacobian_assembly_baseline(benchmark::State& st) {
 /// The system of the second implicit step (default variant) from the warm state, and the first
 /// step's solution as the warm start: exactly what the solver sees inside a running simulation.
 struct SolveCase {
-  drape::BlockSparseMatrix<double> a;
-  drape::VectorX<double> b, warm_start;
-  drape::GridLayout layout;  // for the multigrid preconditioner
+  drape::LinearSystem<double> system;
+  drape::VectorX<double> warm_start;
 };
 
 const SolveCase& solve_case(const Scene& sc, double dt) {
@@ -129,36 +140,31 @@ const SolveCase& solve_case(const Scene& sc, double dt) {
   const std::pair<int, double> key(sc.cloth->node_count(), dt);
   auto it = cache.find(key);
   if (it != cache.end()) return it->second;
-  ImplicitEuler<double> integrator(*sc.cloth, ImplicitOptions{});
+  ImplicitOptions defaults;
+  defaults.dt = dt;
+  ImplicitEuler<double> integrator(*sc.cloth, defaults);
   drape::State<double> s = sc.warm;
-  integrator.step(s, dt);
+  integrator.step(s);
   SolveCase c;
   c.warm_start = integrator.dv();
-  integrator.step(s, dt);
-  c.a = integrator.system_matrix();
-  c.b = integrator.rhs();
-  c.layout = {sc.cloth->grid().nx(), sc.cloth->grid().ny(), integrator.assembler().row_of_node()};
+  integrator.step(s);
+  c.system = integrator.system();
   return cache.emplace(key, std::move(c)).first->second;
 }
 
-void linear_solve_drape(benchmark::State& st, const std::string& solver, double dt) {
+void linear_solve_drape(benchmark::State& st, const SolverSetup& setup, double dt) {
   const Scene& sc = scene(int(st.range(0)));
   const SolveCase& c = solve_case(sc, dt);
-  drape::IterativeSettings settings;
-  settings.tolerance = ImplicitOptions{}.tolerance;
-  settings.max_iterations = ImplicitOptions{}.max_iterations;
-  settings.threads = int(st.range(1));
-  settings.preconditioner =
-      solver == "cg-jacobi" ? drape::Preconditioner::BlockJacobi : ImplicitOptions{}.preconditioner;
-  auto linear_solver = drape::make_linear_solver<double>(solver_name(solver), settings);
-  linear_solver->set_grid_layout(c.layout);
-  linear_solver->analyze(c.a);
+  const drape::IterativeSettings settings =
+      options(setup, JacobianVariant::Spd, int(st.range(1)), dt).iterative_settings();
+  auto linear_solver = drape::make_linear_solver<double>(setup.solver, settings);
+  linear_solver->analyze(c.system);
   drape::VectorX<double> x = c.warm_start;
   long long iterations = 0, failures = 0;
   double residual_max = 0;
   for (auto _ : st) {
     x = c.warm_start;
-    const drape::StepStatus r = linear_solver->solve(c.a, c.b, x);
+    const drape::SolveStatus r = linear_solver->solve(c.system, x);
     benchmark::DoNotOptimize(x.data());
     benchmark::ClobberMemory();
     iterations += r.iterations;
@@ -194,13 +200,13 @@ void linear_solve_baseline(benchmark::State& st, double dt) {
 /// it uses with a team) against the baseline's scalar CSC matrix times a vector.
 void matvec_drape(benchmark::State& st, bool edges) {
   const Scene& sc = scene(int(st.range(0)));
-  drape::BlockSparseMatrix<double> a = solve_case(sc, 1.0 / 60.0).a;
-  if (!edges) a.set_edge_form({}, {0}, {});  // blocks only
-  const drape::VectorX<double> x = drape::VectorX<double>::Random(a.size());
-  drape::VectorX<double> y(a.size());
+  drape::LinearSystem<double> system = solve_case(sc, 1.0 / 60.0).system;
+  if (!edges) system.edges.invalidate();  // blocks only
+  const drape::VectorX<double> x = drape::VectorX<double>::Random(system.size());
+  drape::VectorX<double> y(system.size());
   const int threads = int(st.range(1));
   for (auto _ : st) {
-    a.multiply(x.data(), y.data(), threads);
+    system.multiply(x.data(), y.data(), threads);
     benchmark::DoNotOptimize(y.data());
     benchmark::ClobberMemory();
   }
@@ -227,11 +233,10 @@ void matvec_baseline(benchmark::State& st) {
 
 // ---- full implicit step ------------------------------------------------------------------------------
 
-void implicit_step_drape(benchmark::State& st, const std::string& solver, JacobianVariant jacobian, double dt) {
+void implicit_step_drape(benchmark::State& st, const SolverSetup& setup, JacobianVariant jacobian, double dt) {
   const Scene& sc = scene(int(st.range(0)));
-  ImplicitEuler<double> integrator(*sc.cloth, options(solver, jacobian, int(st.range(1))));
-  run_steps(st, sc, implicit_window, [&](drape::State<double>& s) { return integrator.step(s, dt); },
-            iterative(solver));
+  ImplicitEuler<double> integrator(*sc.cloth, options(setup, jacobian, int(st.range(1)), dt));
+  run_steps(st, sc, implicit_window, [&](drape::State<double>& s) { return integrator.step(s); }, setup.iterative());
   st.counters["threads_used"] = integrator.assembler().threads();
 }
 
@@ -243,11 +248,11 @@ void implicit_step_baseline(benchmark::State& st, double dt) {
 
 // ---- set-up ------------------------------------------------------------------------------------------
 
-void setup_implicit(benchmark::State& st, const std::string& solver) {
+void setup_implicit(benchmark::State& st, const SolverSetup& setup) {
   const drape::ClothSpec<double> spec = scene_spec(int(st.range(0)));
   for (auto _ : st) {
     drape::Cloth<double> cloth(spec);
-    ImplicitEuler<double> integrator(cloth, options(solver, JacobianVariant::Spd, 2));
+    ImplicitEuler<double> integrator(cloth, options(setup, JacobianVariant::Spd, 2, 1.0 / 60.0));
     benchmark::DoNotOptimize(&integrator);
   }
   st.counters["nodes"] = double(spec.nx * spec.ny);
@@ -270,14 +275,14 @@ const bool registered = [] {
         benchmark::kMicrosecond);
   sized(RegisterBenchmark(name("matvec", "baseline").c_str(), matvec_baseline), serial, benchmark::kMicrosecond);
 
-  for (const std::string solver : {"cg", "cg-jacobi", "bicgstab", "cholmod", "umfpack", "ldlt", "lu"}) {
-    if (!available(solver)) continue;
+  for (const SolverSetup& setup : solver_setups) {
+    if (!setup.available()) continue;
     for (const TimeStep& ts : time_steps) {
-      if (ts.dt != 1.0 / 60.0 && solver != defaults.solver) continue;
+      if (ts.dt != 1.0 / 60.0 && setup.solver != defaults.solver) continue;
       const double dt = ts.dt;
-      sized(RegisterBenchmark(name("linear_solve", "drape", "/solver=" + solver + "/jacobian=spd" + dt_label(ts)).c_str(),
-                              linear_solve_drape, solver, dt),
-            iterative(solver) ? one_and_two : two, benchmark::kMillisecond, max_n_of(solver));
+      sized(RegisterBenchmark(name("linear_solve", "drape", setup.name() + "/jacobian=spd" + dt_label(ts)).c_str(),
+                              linear_solve_drape, setup, dt),
+            setup.iterative() ? one_and_two : two, benchmark::kMillisecond, setup.max_n());
     }
   }
   // The baseline's solve and step take ~30 s at 257 x 257: there only the step at dt = 1/60, once.
@@ -286,14 +291,15 @@ const bool registered = [] {
           serial, benchmark::kMillisecond, 129);
 
   for (const StepPlan& p : step_plans) {
-    if (!available(p.solver)) continue;
+    if (!p.setup.available()) continue;
     for (const TimeStep& ts : time_steps) {
       if (!p.both_time_steps && ts.dt != 1.0 / 60.0) continue;
-      const std::string rest = std::string("/solver=") + p.solver + "/jacobian=" + drape::to_string(p.jacobian) + dt_label(ts);
-      sized(RegisterBenchmark(name("implicit_step", "drape", rest).c_str(), implicit_step_drape, std::string(p.solver),
-                              p.jacobian, ts.dt),
-            *p.threads, benchmark::kMillisecond, p.max_n,
-            p.solver == defaults.solver && p.jacobian == defaults.jacobian ? headline_min_time : quick_min_time);
+      const std::string rest = p.setup.name() + "/jacobian=" + drape::to_string(p.jacobian) + dt_label(ts);
+      const bool headline = p.setup.solver == defaults.solver && p.setup.preconditioner == defaults.preconditioner &&
+                            p.jacobian == defaults.jacobian;
+      sized(RegisterBenchmark(name("implicit_step", "drape", rest).c_str(), implicit_step_drape, p.setup, p.jacobian,
+                              ts.dt),
+            *p.threads, benchmark::kMillisecond, p.setup.max_n(), headline ? headline_min_time : quick_min_time);
     }
   }
   for (const TimeStep& ts : time_steps)
@@ -306,10 +312,10 @@ const bool registered = [] {
       ->Iterations(1)
       ->Repetitions(1);
 
-  for (const std::string solver : {"cg", "cg-jacobi", "bicgstab", "cholmod", "umfpack", "ldlt", "lu"})
-    if (available(solver))
-      sized(RegisterBenchmark(("setup/what=cloth+implicit/solver=" + solver).c_str(), setup_implicit, solver), serial,
-            benchmark::kMillisecond, max_n_of(solver));
+  for (const SolverSetup& setup : solver_setups)
+    if (setup.available())
+      sized(RegisterBenchmark(("setup/what=cloth+implicit" + setup.name()).c_str(), setup_implicit, setup), serial,
+            benchmark::kMillisecond, setup.max_n());
   return true;
 }();
 
@@ -318,10 +324,10 @@ double relative_difference(const drape::VectorX<double>& a, const drape::VectorX
 }
 
 /// dv of one step of `integrator` from `state`, expanded to all 3n DOFs (pinned: 0).
-drape::VectorX<double> full_dv(ImplicitEuler<double>& integrator, const drape::State<double>& state, double dt,
+drape::VectorX<double> full_dv(ImplicitEuler<double>& integrator, const drape::State<double>& state,
                                drape::StepStatus& status) {
   drape::State<double> s = state;
-  status = integrator.step(s, dt);
+  status = integrator.step(s);
   drape::VectorX<double> dv = drape::VectorX<double>::Zero(3 * state.node_count());
   const std::vector<int>& node_of_row = integrator.assembler().node_of_row();
   for (std::size_t r = 0; r < node_of_row.size(); ++r)
@@ -334,24 +340,27 @@ drape::VectorX<double> full_dv(ImplicitEuler<double>& integrator, const drape::S
 std::string check_accuracy() {
   std::ostringstream text;
   const ImplicitOptions defaults;
-  const std::string direct = available("cholmod") ? "cholmod" : "ldlt";
+  const SolverSetup direct{drape::solver_available(Kind::Cholmod) ? Kind::Cholmod : Kind::Ldlt};
+  const SolverSetup default_setup{defaults.solver, defaults.preconditioner};
   bool ok = true;
   text.precision(1);
   text << std::scientific;
   text << "Accuracy (checked by `drape_bench` at start-up, from the warm states; it refuses to run if a check "
           "fails): the default solver `"
-       << defaults.solver << "` (" << drape::to_string(defaults.jacobian) << " Jacobian) stops at relative residual "
-       << defaults.tolerance << "; its first step's dv differs from the `" << direct << "` direct solve of the same "
+       << drape::to_string(defaults.solver) << "` (" << drape::to_string(defaults.preconditioner) << " preconditioner, "
+       << drape::to_string(defaults.jacobian) << " Jacobian) stops at relative residual "
+       << defaults.tolerance << "; its first step's dv differs from the `" << drape::to_string(direct.solver)
+       << "` direct solve of the same "
        << "system by (relative 2-norm) ";
   std::string sep;
   for (int n : grid_sizes) {
     const Scene& sc = scene(n);
     for (const TimeStep& ts : time_steps) {
-      ImplicitEuler<double> cg(*sc.cloth, options(defaults.solver, defaults.jacobian, 0));
-      ImplicitEuler<double> reference(*sc.cloth, options(direct, defaults.jacobian, 0));
+      ImplicitEuler<double> cg(*sc.cloth, options(default_setup, defaults.jacobian, 0, ts.dt));
+      ImplicitEuler<double> reference(*sc.cloth, options(direct, defaults.jacobian, 0, ts.dt));
       drape::StepStatus s_cg, s_ref;
-      const drape::VectorX<double> dv_cg = full_dv(cg, sc.warm, ts.dt, s_cg);
-      const drape::VectorX<double> dv_ref = full_dv(reference, sc.warm, ts.dt, s_ref);
+      const drape::VectorX<double> dv_cg = full_dv(cg, sc.warm, s_cg);
+      const drape::VectorX<double> dv_ref = full_dv(reference, sc.warm, s_ref);
       const double diff = relative_difference(dv_cg, dv_ref);
       text << sep << diff << " (" << n << " x " << n << ", dt = " << (ts.dt == 0.01 ? "0.01" : "1/60") << ")";
       sep = ", ";
@@ -372,9 +381,9 @@ std::string check_accuracy() {
   for (int n : {33, 65}) {
     const Scene& sc = scene(n);
     for (const TimeStep& ts : time_steps) {
-      ImplicitEuler<double> ldlt(*sc.cloth, options("ldlt", JacobianVariant::Symmetric, 0));
+      ImplicitEuler<double> ldlt(*sc.cloth, options({Kind::Ldlt}, JacobianVariant::Symmetric, 0, ts.dt));
       drape::StepStatus status;
-      const drape::VectorX<double> dv = full_dv(ldlt, sc.warm, ts.dt, status);
+      const drape::VectorX<double> dv = full_dv(ldlt, sc.warm, status);
       const drape::VectorX<double> dv_base = BaselineImplicit(*sc.cloth).step_dv(sc.warm, ts.dt);
       const double diff = dv_base.size() ? relative_difference(dv_base, dv) : 1.0;
       text << sep << diff << " (" << n << " x " << n << ", dt = " << (ts.dt == 0.01 ? "0.01" : "1/60") << ")";
@@ -385,8 +394,9 @@ std::string check_accuracy() {
       }
     }
     drape::State<double> a = sc.warm, b = sc.warm;
-    drape::Rk2<double>(*sc.cloth, 1).step(a, drape::ClothSpec<double>::default_dt());
-    BaselineRk2(*sc.cloth).step(b, drape::ClothSpec<double>::default_dt());
+    const double dt = drape::IntegratorOptions{}.dt;
+    drape::Rk2<double>(*sc.cloth, {dt, 1}).step(a);
+    BaselineRk2(*sc.cloth).step(b, dt);
     const double diff = std::max(relative_difference(drape::flat(b.positions), drape::flat(a.positions)),
                                  relative_difference(drape::flat(b.velocities), drape::flat(a.velocities)));
     rk2_text << (n == 33 ? "" : ", ") << diff << " (" << n << " x " << n << ")";

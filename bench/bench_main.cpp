@@ -10,7 +10,7 @@
 
 #include "bench_common.hpp"
 #include "drape/config.hpp"
-#include "drape/core/parallel.hpp"
+#include "drape/core/team.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 
 namespace drape_bench {
@@ -18,11 +18,11 @@ namespace drape_bench {
 const char* const warm_up_method = "drape RK2 at its default dt = 0.5 ms";
 
 void warm_up(const drape::Cloth<double>& cloth, drape::State<double>& state) {
-  drape::Rk2<double> rk2(cloth, 1);  // bitwise the same as 2 threads, and immune to a busy machine
-  const double dt = drape::ClothSpec<double>::default_dt();
-  const int steps = int(warm_up_time / dt + 0.5);
+  // One thread: bitwise the same as 2 threads, and immune to a busy machine.
+  drape::Rk2<double> rk2(cloth, {drape::IntegratorOptions{}.dt, 1});
+  const int steps = int(warm_up_time / rk2.dt() + 0.5);
   for (int k = 0; k < steps; ++k)
-    if (!rk2.step(state, dt)) {
+    if (!rk2.step(state)) {
       std::fprintf(stderr, "drape_bench: warm-up diverged at step %d of %d for %d nodes\n", k, steps,
                    cloth.node_count());
       std::exit(1);
@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("rk2_window", std::to_string(drape_bench::rk2_window));
   benchmark::AddCustomContext("implicit_window", std::to_string(drape_bench::implicit_window));
   const drape::ImplicitOptions defaults;
-  benchmark::AddCustomContext("default_solver", defaults.solver);
+  benchmark::AddCustomContext("default_solver", drape::to_string(defaults.solver));
+  benchmark::AddCustomContext("default_preconditioner", drape::to_string(defaults.preconditioner));
   benchmark::AddCustomContext("default_jacobian", drape::to_string(defaults.jacobian));
   benchmark::AddCustomContext("default_tolerance", std::to_string(defaults.tolerance));
   bool listing = false;

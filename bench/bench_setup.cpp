@@ -21,7 +21,7 @@ void setup_rk2(benchmark::State& st) {
   const drape::ClothSpec<double> spec = scene_spec(int(st.range(0)));
   for (auto _ : st) {
     drape::Cloth<double> cloth(spec);
-    drape::Rk2<double> rk2(cloth, 2);
+    drape::Rk2<double> rk2(cloth, {drape::IntegratorOptions{}.dt, 2});
     benchmark::DoNotOptimize(&rk2);
   }
   st.counters["nodes"] = double(spec.nx * spec.ny);

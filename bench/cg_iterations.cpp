@@ -17,26 +17,25 @@ int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 33;
   const double dt = argc > 2 ? std::atof(argv[2]) : 1.0 / 60.0;
   const double t_end = argc > 3 ? std::atof(argv[3]) : 8.0;
-  const std::string preconditioner = argc > 4 ? argv[4] : "multigrid";
-  if (preconditioner != "multigrid" && preconditioner != "block-jacobi") {
-    std::fprintf(stderr, "preconditioner: '%s', expected multigrid or block-jacobi\n", preconditioner.c_str());
+  drape::ImplicitOptions options;
+  if (argc > 4 && !drape::try_parse(argv[4], options.preconditioner)) {
+    std::fprintf(stderr, "preconditioner: '%s', expected %s\n", argv[4],
+                 drape::joined_names<drape::PreconditionerKind>().c_str());
     return 2;
   }
   drape::ClothSpec<double> spec;
   spec.nx = spec.ny = n;
   const drape::Cloth<double> cloth(spec);
   drape::State<double> state = cloth.initial_state();
-  drape::ImplicitOptions options;
+  options.dt = dt;
   options.threads = 1;
-  options.preconditioner =
-      preconditioner == "multigrid" ? drape::Preconditioner::Multigrid : drape::Preconditioner::BlockJacobi;
   drape::ImplicitEuler<double> integrator(cloth, options);
-  std::printf("%d x %d, dt = %g, solver %s (%s, %s), tolerance %g\n", n, n, dt, options.solver.c_str(),
+  std::printf("%d x %d, dt = %g, solver %s (%s, %s), tolerance %g\n", n, n, dt, drape::to_string(options.solver),
               drape::to_string(options.jacobian), drape::to_string(options.preconditioner), options.tolerance);
   long long iterations = 0, steps = 0;
   double window_end = 0.25, window_start = 0;
   while (state.time < t_end - 1e-12) {
-    const drape::StepStatus status = integrator.step(state, dt);
+    const drape::StepStatus status = integrator.step(state);
     if (!status.ok()) {
       std::printf("step failed at t = %g: %s\n", state.time, drape::to_string(status.error));
       return 1;

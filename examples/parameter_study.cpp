@@ -26,15 +26,14 @@ int main(int argc, char** argv) {
       drape::ClothSpecd spec;
       spec.boundary = bc;
       spec.springs = {{a[0], a[3]}, {a[1], a[4]}, {a[2], a[5]}};
-      spec.dt = a[6];
       const drape::Clothd cloth(spec);
-      drape::Rk2d rk2(cloth, 1);
+      drape::Rk2d rk2(cloth, {a[6], 1});
       drape::Stated s = cloth.initial_state();
-      const long steps = std::lround(6.0 / spec.dt);
+      const long steps = std::lround(6.0 / rk2.dt());
       double swing_max = 0;
       bool stable = true;
       for (long k = 0; k < steps && stable; ++k) {
-        stable = rk2.step(s, spec.dt).ok();
+        stable = rk2.step(s).ok();
         swing_max = std::max(swing_max, drape::max_strain(cloth, s.positions));
       }
       if (!stable) {
@@ -42,7 +41,7 @@ int main(int argc, char** argv) {
         continue;
       }
       for (long k = 0; k < steps && stable; ++k) {
-        stable = rk2.step(s, spec.dt).ok();
+        stable = rk2.step(s).ok();
         s.velocities *= 0.995;
       }
       const auto& sp = cloth.springs();

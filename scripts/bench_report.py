@@ -147,7 +147,7 @@ def fit_exponent(points):
 def method_label(method):
     d = dict(method)
     parts = [d["impl"]] if "impl" in d else []
-    for k in ("solver", "jacobian", "what"):
+    for k in ("solver", "preconditioner", "jacobian", "what"):
         if k in d:
             parts.append(d[k])
     if "dt" in d:
@@ -296,13 +296,14 @@ def speedup_table(results):
 
 def targets(results, context):
     default_solver = context.get("default_solver")
+    default_pre = context.get("default_preconditioner")
     default_jac = context.get("default_jacobian")
     rows = []
 
     def implicit(n, dt, threads=2, impl="drape"):
         attrs = {"n": n, "dt": dt, "impl": impl}
         if impl == "drape":
-            attrs.update(solver=default_solver, jacobian=default_jac, threads=threads)
+            attrs.update(solver=default_solver, preconditioner=default_pre, jacobian=default_jac, threads=threads)
         return one(results, "implicit_step", **attrs)
 
     def rk2(n, threads=2, impl="drape"):
@@ -356,7 +357,8 @@ def targets(results, context):
     # How far up real time holds: per size the faster of 1 and 2 threads (a user picks the faster),
     # the largest measured size under 1/60 s, and the fitted extrapolation beyond it.
     best = {}
-    for r in find(results, "implicit_step", impl="drape", solver=default_solver, jacobian=default_jac, dt="1_60"):
+    for r in find(results, "implicit_step", impl="drape", solver=default_solver, preconditioner=default_pre,
+                  jacobian=default_jac, dt="1_60"):
         if r.n not in best or r.median_ms < best[r.n].median_ms:
             best[r.n] = r
     group = [best[n] for n in sorted(best)]
@@ -394,7 +396,8 @@ def write_plot(results, context, path):
                 continue
             # 2 threads for every method; 1 thread too for RK2 and the default implicit solver, whose
             # 2-thread figures a busy machine distorts most.
-            is_default = d.get("solver") == default_solver and d.get("jacobian") == context.get("default_jacobian")
+            is_default = (d.get("solver") == default_solver and d.get("jacobian") == context.get("default_jacobian")
+                          and d.get("preconditioner") == context.get("default_preconditioner"))
             if d.get("impl") == "drape" and d.get("threads") != "2" and not (family == "rk2_step" or is_default):
                 continue
             label = ("RK2 " if family == "rk2_step" else "implicit ") + method_label(m)

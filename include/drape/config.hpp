@@ -1,6 +1,7 @@
 #pragma once
 /// \file config.hpp
-/// Build-time switches and the hot-loop assertion macro.
+/// The library version (the one place it is written: CMakeLists.txt reads it from here) and the
+/// hot-loop assertion macro.
 ///
 /// `DRAPE_ASSERT(cond, msg)` guards preconditions inside loops that run every step. It compiles to
 /// `assert` by default; define it before including drape to route it to your own handler.
@@ -13,5 +14,5 @@
 #endif
 
 #define DRAPE_VERSION_MAJOR 0
-#define DRAPE_VERSION_MINOR 1
+#define DRAPE_VERSION_MINOR 2
 #define DRAPE_VERSION_PATCH 0

@@ -1,34 +1,64 @@
 #pragma once
 /// \file drape.hpp
-/// Umbrella header: everything in the header-only core. Include single headers to compile faster.
+/// Umbrella header: everything in the header-only core except the opt-in and optional solvers
+/// (solvers/enable_ldlt.hpp, enable_lu.hpp; cholmod.hpp and umfpack.hpp with SuiteSparse).
+/// Include single headers to compile faster. The groups below are the layers, each using only
+/// the ones above it (docs/architecture.md).
 
 #include "drape/config.hpp"
 #include "drape/fwd.hpp"
-#include "drape/core/cloth.hpp"
-#include "drape/core/grid.hpp"
-#include "drape/core/parallel.hpp"
-#include "drape/core/pins.hpp"
-#include "drape/core/spring_set.hpp"
-#include "drape/core/state.hpp"
-#include "drape/core/team.hpp"
+
+// core: types, checks, threads, the cloth model
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
+#include "drape/core/enum_names.hpp"
+#include "drape/core/team.hpp"
+#include "drape/core/grid.hpp"
+#include "drape/core/spring_set.hpp"
+#include "drape/core/pins.hpp"
+#include "drape/core/state.hpp"
+#include "drape/core/force_term.hpp"
+#include "drape/core/cloth.hpp"
+
+// linalg: 3x3 block storage and the linear system solvers are handed
+#include "drape/linalg/block3.hpp"
+#include "drape/linalg/block_sparse_matrix.hpp"
+#include "drape/linalg/edge_operator.hpp"
+#include "drape/linalg/grid_layout.hpp"
+#include "drape/linalg/constraint_filter.hpp"
+#include "drape/linalg/linear_system.hpp"
+
+// physics: forces, their derivatives, the system assembly, diagnostics
 #include "drape/physics/spring_kernel.hpp"
+#include "drape/physics/spring_jacobian.hpp"
 #include "drape/physics/spring_families.hpp"
 #include "drape/physics/force_assembler.hpp"
-#include "drape/physics/diagnostics.hpp"
-#include "drape/integrators/step_status.hpp"
-#include "drape/integrators/rk2.hpp"
-#include "drape/physics/spring_jacobian.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
-#include "drape/solvers/block_sparse_matrix.hpp"
+#include "drape/physics/diagnostics.hpp"
+
+// solvers: linear solvers and preconditioners (know nothing of cloth)
+#include "drape/solvers/solve_status.hpp"
+#include "drape/solvers/preconditioner.hpp"
 #include "drape/solvers/linear_solver.hpp"
+#include "drape/solvers/solver_kind.hpp"
+#include "drape/solvers/block_jacobi.hpp"
+#include "drape/solvers/dense_cholesky.hpp"
+#include "drape/solvers/multigrid_hierarchy.hpp"
+#include "drape/solvers/multigrid.hpp"
 #include "drape/solvers/pcg.hpp"
 #include "drape/solvers/bicgstab.hpp"
-#include "drape/solvers/eigen_direct.hpp"
+#include "drape/solvers/direct_solver.hpp"
 #include "drape/solvers/solver_registry.hpp"
+
+// integrators: time stepping
+#include "drape/integrators/step_status.hpp"
+#include "drape/integrators/integrator.hpp"
+#include "drape/integrators/rk2.hpp"
 #include "drape/integrators/implicit_euler.hpp"
+#include "drape/integrators/make_integrator.hpp"
+
+// realtime and io: pacing against the wall clock, files
+#include "drape/realtime/realtime_driver.hpp"
 #include "drape/io/atomic_file.hpp"
 #include "drape/io/obj.hpp"
 #include "drape/io/state_io.hpp"
-#include "drape/realtime/realtime_driver.hpp"

@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-#include "drape/core/parallel.hpp"
+#include "drape/core/team.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "test_common.hpp"
@@ -20,10 +20,10 @@ ClothSpec<double> swing_spec(double kd = 0) {
 }
 
 State<double> run(const Cloth<double>& cloth, double dt, double duration) {
-  Rk2<double> rk2(cloth, 1);
+  Rk2<double> rk2(cloth, {dt, 1});
   State<double> s = cloth.initial_state();
   const int steps = static_cast<int>(std::lround(duration / dt));
-  for (int k = 0; k < steps; ++k) REQUIRE(rk2.step(s, dt).ok());
+  for (int k = 0; k < steps; ++k) REQUIRE(rk2.step(s).ok());
   return s;
 }
 
@@ -40,12 +40,12 @@ TEMPLATE_TEST_CASE("one fused RK2 step equals the midpoint rule written out with
     s.positions = test::jiggled_positions(cloth, S(0.2), 31);
     s.velocities = test::random_velocities<S>(cloth.node_count(), S(1), 32);
     s.velocities.col(cloth.pins().nodes().back()) = Vec3<S>(1, -2, 3);  // ignored: pinned
-    const S dt = spec.dt, half = dt / 2;
+    const S dt = S(IntegratorOptions{}.dt), half = dt / 2;
     // The midpoint rule of the brief, one Eigen expression per line.
     const ForceAssembler<S> forces(cloth, 1);
     const auto acceleration = [&](const Matrix3X<S>& x, const Matrix3X<S>& v) {
       Matrix3X<S> f(3, cloth.node_count());
-      forces.force(x, v, f);
+      forces.force(x, v, S(0), f);
       return Matrix3X<S>(f.array().rowwise() / cloth.grid().masses().transpose().array());
     };
     Matrix3X<S> x_mid = s.positions + half * s.velocities;
@@ -60,10 +60,10 @@ TEMPLATE_TEST_CASE("one fused RK2 step equals the midpoint rule written out with
       x_new.col(p) = s.positions.col(p);
       v_new.col(p).setZero();
     }
-    Rk2<S> rk2(cloth, threads);
+    Rk2<S> rk2(cloth, {double(dt), threads});
     REQUIRE(rk2.forces().threads() == std::min(threads, max_threads()));
     const S t0 = s.time;
-    REQUIRE(rk2.step(s, dt).ok());
+    REQUIRE(rk2.step(s).ok());
     INFO(threads << " thread(s)");
     const S eps = std::is_same<S, float>::value ? S(1e-6) : S(1e-14);
     REQUIRE((s.positions - x_new).cwiseAbs().maxCoeff() <= eps * x_new.cwiseAbs().maxCoeff());
@@ -93,11 +93,11 @@ TEST_CASE("RK2 energy drift without damping is O(dt^2) or better", "[rk2][energy
   const Cloth<double> cloth(swing_spec(0));
   const double E0 = total_energy(cloth, cloth.initial_state());
   const auto drift = [&](double dt) {
-    Rk2<double> rk2(cloth, 1);
+    Rk2<double> rk2(cloth, {dt, 1});
     State<double> s = cloth.initial_state();
     double worst = 0;
     for (int k = 0; k < std::lround(0.5 / dt); ++k) {
-      REQUIRE(rk2.step(s, dt).ok());
+      REQUIRE(rk2.step(s).ok());
       worst = std::max(worst, std::abs(total_energy(cloth, s) - E0));
     }
     return worst;
@@ -117,10 +117,10 @@ TEMPLATE_TEST_CASE("unpinned cloth falls freely: y = -g t^2 / 2, springs stay at
   spec.pinned_nodes = std::vector<int>{};
   spec.springs = {{S(300), S(1)}, {S(200), S(1)}, {S(50), S(1)}};
   const Cloth<S> cloth(spec);
-  Rk2<S> rk2(cloth, 1);
-  State<S> s = cloth.initial_state();
   const S dt = S(1e-3);
-  for (int k = 0; k < 500; ++k) REQUIRE(rk2.step(s, dt).ok());
+  Rk2<S> rk2(cloth, {double(dt), 1});
+  State<S> s = cloth.initial_state();
+  for (int k = 0; k < 500; ++k) REQUIRE(rk2.step(s).ok());
   const S t = S(500) * dt;
   const S expected = -S(10) * t * t / 2;
   const S tol = std::is_same<S, float>::value ? S(1e-4) : S(1e-12);
@@ -143,7 +143,7 @@ TEMPLATE_TEST_CASE("pinned nodes stay bit-identical and at rest", "[rk2][pins]",
     State<S> s = cloth.initial_state();
     const Matrix3X<S> start = s.positions;
     s.velocities.col(cloth.pins().nodes().front()) = Vec3<S>(1, 2, 3);  // a careless caller
-    for (int k = 0; k < 300; ++k) REQUIRE(rk2.step(s, spec.dt).ok());
+    for (int k = 0; k < 300; ++k) REQUIRE(rk2.step(s).ok());
     for (int p : cloth.pins().nodes()) {
       REQUIRE(std::memcmp(s.positions.col(p).data(), start.col(p).data(), 3 * sizeof(S)) == 0);
       REQUIRE(s.velocities.col(p).isZero(0));
@@ -157,7 +157,7 @@ TEST_CASE("a diverging RK2 step is reported and leaves the state unchanged", "[r
   spec.springs = {{1e7, 0}, {1e7, 0}, {1e7, 0}};
   spec.boundary = BoundaryCondition::OneCorner;
   const Cloth<double> cloth(spec);
-  Rk2<double> rk2(cloth, 1);
+  Rk2<double> rk2(cloth, {0.01, 1});
   State<double> s = cloth.initial_state();
   s.positions = test::jiggled_positions(cloth, 0.2, 1);
   StepStatus status;
@@ -165,7 +165,7 @@ TEST_CASE("a diverging RK2 step is reported and leaves the state unchanged", "[r
   State<double> before;
   for (; k < 10000; ++k) {
     before = s;
-    status = rk2.step(s, 0.01);
+    status = rk2.step(s);
     if (!status.ok()) break;
   }
   REQUIRE(status.error == StepError::NonFiniteState);
@@ -181,8 +181,8 @@ TEST_CASE("the default scene is stable with RK2 at the default dt for both bound
     const Cloth<double> cloth(spec);
     Rk2<double> rk2(cloth);
     State<double> s = cloth.initial_state();
-    const int steps = static_cast<int>(std::lround(3.0 / spec.dt));
-    for (int k = 0; k < steps; ++k) REQUIRE(rk2.step(s, spec.dt).ok());
+    const int steps = static_cast<int>(std::lround(3.0 / rk2.dt()));
+    for (int k = 0; k < steps; ++k) REQUIRE(rk2.step(s).ok());
     // Bounded: nothing flew off, and the springs are not absurdly stretched.
     REQUIRE(s.positions.cwiseAbs().maxCoeff() < 10.0);
     REQUIRE(max_strain(cloth, s.positions) < 0.5);

@@ -40,20 +40,20 @@ TEMPLATE_TEST_CASE("a saved and loaded state resumes bit-identically", "[state_i
   using S = TestType;
   const drape::Cloth<S> cloth(drape::test::small_spec<S>(6, S(10)));
   const S dt = S(0.001);
-  drape::Rk2<S> continuous(cloth, 1);
+  drape::Rk2<S> continuous(cloth, {double(dt), 1});
   drape::State<S> reference = cloth.initial_state();
-  for (int k = 0; k < 40; ++k) REQUIRE(continuous.step(reference, dt).ok());
+  for (int k = 0; k < 40; ++k) REQUIRE(continuous.step(reference).ok());
 
   // The same 40 steps, saved after 17 and resumed from the file.
-  drape::Rk2<S> first(cloth, 1);
+  drape::Rk2<S> first(cloth, {double(dt), 1});
   drape::State<S> s = cloth.initial_state();
-  for (int k = 0; k < 17; ++k) REQUIRE(first.step(s, dt).ok());
+  for (int k = 0; k < 17; ++k) REQUIRE(first.step(s).ok());
   const std::string path = temp_path(std::string("resume_") + drape::detail::scalar_name<S>());
   drape::save_state(path, s);
   drape::State<S> loaded = drape::load_state<S>(path, cloth.node_count());
   REQUIRE(bit_identical(loaded, s));
-  drape::Rk2<S> second(cloth, 1);
-  for (int k = 17; k < 40; ++k) REQUIRE(second.step(loaded, dt).ok());
+  drape::Rk2<S> second(cloth, {double(dt), 1});
+  for (int k = 17; k < 40; ++k) REQUIRE(second.step(loaded).ok());
   REQUIRE(bit_identical(loaded, reference));
   std::remove(path.c_str());
 }

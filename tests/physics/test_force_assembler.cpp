@@ -5,7 +5,7 @@
 #include <set>
 #include <tuple>
 
-#include "drape/core/parallel.hpp"
+#include "drape/core/team.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/physics/spring_kernel.hpp"
@@ -121,7 +121,7 @@ TEMPLATE_TEST_CASE("the vectorised force pass equals the per-spring sum", "[asse
     const Matrix3X<S> expected = per_spring_forces(cloth, x, v);
     for (int threads : {1, 2}) {
       Matrix3X<S> f(3, cloth.node_count());
-      ForceAssembler<S>(cloth, threads).force(x, v, f);
+      ForceAssembler<S>(cloth, threads).force(x, v, 0, f);
       INFO(shape.first << " x " << shape.second << ", " << threads << " thread(s)");
       const S tol = std::is_same<S, float>::value ? S(1e-5) : S(1e-13);
       REQUIRE((f - expected).cwiseAbs().maxCoeff() <= tol * expected.cwiseAbs().maxCoeff());
@@ -135,7 +135,7 @@ TEST_CASE("a zero-length spring gives a non-finite force, not a silent zero", "[
   x.col(1) = x.col(0);  // structural spring 0 -> 1 collapses
   const Matrix3X<double> v = Matrix3X<double>::Zero(3, cloth.node_count());
   Matrix3X<double> f(3, cloth.node_count());
-  ForceAssembler<double>(cloth, 1).force(x, v, f);
+  ForceAssembler<double>(cloth, 1).force(x, v, 0, f);
   REQUIRE(!f.col(0).allFinite());
   REQUIRE(!f.col(1).allFinite());
   REQUIRE(f.col(cloth.node_count() - 1).allFinite());  // far away: untouched
@@ -153,7 +153,7 @@ TEMPLATE_TEST_CASE("assembled force is minus the gradient of the total potential
     Matrix3X<S> x = test::jiggled_positions(cloth, S(0.4), seed);
     const Matrix3X<S> v = Matrix3X<S>::Zero(3, cloth.node_count());
     Matrix3X<S> f(3, cloth.node_count());
-    forces.force(x, v, f);
+    forces.force(x, v, 0, f);
     const auto potential = [&](const Matrix3X<S>& y) {
       return spring_potential_energy(cloth, y) + gravitational_potential_energy(cloth, y);
     };
@@ -179,7 +179,7 @@ TEMPLATE_TEST_CASE("internal forces sum to zero and exert no net torque", "[asse
   const Matrix3X<S> x = test::jiggled_positions(cloth, S(0.3), 11);
   const Matrix3X<S> v = test::random_velocities<S>(cloth.node_count(), S(2), 12);
   Matrix3X<S> f(3, cloth.node_count());
-  ForceAssembler<S>(cloth, 1).force(x, v, f);
+  ForceAssembler<S>(cloth, 1).force(x, v, 0, f);
   const S tol = std::is_same<S, float>::value ? S(1e-3) : S(1e-10);
   REQUIRE(f.rowwise().sum().norm() <= tol * f.norm());
   Vec3<S> torque = Vec3<S>::Zero();
@@ -195,7 +195,7 @@ TEST_CASE("damping dissipates: power of the damping forces is -sum kd (v_ij . u)
   const Matrix3X<double> x = test::jiggled_positions(cloth, 0.2, 3);
   const Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 4);
   Matrix3X<double> f(3, cloth.node_count());
-  ForceAssembler<double>(cloth, 1).force(x, v, f);
+  ForceAssembler<double>(cloth, 1).force(x, v, 0, f);
   double expected = 0;
   const auto& sp = cloth.springs();
   for (int s = 0; s < sp.size(); ++s) {
@@ -211,7 +211,7 @@ TEST_CASE("damping dissipates: power of the damping forces is -sum kd (v_ij . u)
   Matrix3X<double> rigid(3, cloth.node_count());
   const Eigen::Vector3d omega(0.3, -1.0, 0.7), drift(1, 2, 3);
   for (int i = 0; i < cloth.node_count(); ++i) rigid.col(i) = drift + omega.cross(x.col(i));
-  ForceAssembler<double>(cloth, 1).force(x, rigid, f);
+  ForceAssembler<double>(cloth, 1).force(x, rigid, 0, f);
   REQUIRE(f.norm() <= 1e-12);
 }
 
@@ -223,10 +223,10 @@ TEST_CASE("1 and 2 threads give bitwise identical forces", "[assembler][threads]
     const Matrix3X<double> x = test::jiggled_positions(cloth, 0.3, 5);
     const Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 6);
     Matrix3X<double> f1(3, cloth.node_count()), f2(3, cloth.node_count());
-    ForceAssembler<double>(cloth, 1).force(x, v, f1);
+    ForceAssembler<double>(cloth, 1).force(x, v, 0, f1);
     const ForceAssembler<double> two(cloth, 2);
     REQUIRE(two.threads() == std::min(2, max_threads()));
-    two.force(x, v, f2);
+    two.force(x, v, 0, f2);
     INFO(n << " x " << n);
     REQUIRE(std::memcmp(f1.data(), f2.data(), sizeof(double) * std::size_t(f1.size())) == 0);
   }

@@ -36,8 +36,8 @@ Dense fd_jacobian(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X
     Matrix3X<double> xp = x, xm = x, vp = v, vm = v;
     (wrt_x ? xp : vp).data()[k] += h;
     (wrt_x ? xm : vm).data()[k] -= h;
-    forces.force(xp, vp, fp);
-    forces.force(xm, vm, fm);
+    forces.force(xp, vp, 0, fp);
+    forces.force(xm, vm, 0, fm);
     j.col(k) = (flat(fp) - flat(fm)) / (2 * h);
   }
   return j;
@@ -47,7 +47,7 @@ void assembled(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X<do
                Dense& dfdx, Dense& dfdv) {
   JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
   BlockSparseMatrix<double> kx = assembler.make_matrix(), kv = assembler.make_matrix();
-  assembler.assemble_jacobians(x, v, variant, kx, kv);
+  assembler.assemble_jacobians(x, v, 0, variant, kx, kv);
   dfdx = kx.to_dense();
   dfdv = kv.to_dense();
 }
@@ -122,12 +122,12 @@ TEST_CASE("the Spd system matrix factorises where the Symmetric one does not (he
   Matrix3X<double> x = test::jiggled_positions(cloth, 0.05, 5u) * 0.4;
   const Matrix3X<double> v = Matrix3X<double>::Zero(3, cloth.node_count());
   JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
-  BlockSparseMatrix<double> a = assembler.make_matrix();
-  VectorX<double> rhs(a.size());
+  LinearSystem<double> system = assembler.make_system();
+  const BlockSparseMatrix<double>& a = system.matrix;
   const double dt = 1.0 / 60;
-  assembler.assemble_system(x, v, dt, JacobianVariant::Symmetric, a, rhs);
+  assembler.assemble_system(x, v, 0, dt, JacobianVariant::Symmetric, system);
   CHECK(Eigen::LLT<Dense>(a.to_dense()).info() == Eigen::NumericalIssue);
-  assembler.assemble_system(x, v, dt, JacobianVariant::Spd, a, rhs);
+  assembler.assemble_system(x, v, 0, dt, JacobianVariant::Spd, system);
   CHECK(Eigen::LLT<Dense>(a.to_dense()).info() == Eigen::Success);
 }
 
@@ -145,14 +145,16 @@ TEST_CASE("system matrix and right-hand side follow the brief's formula", "[jaco
   for (JacobianVariant variant : {JacobianVariant::Exact, JacobianVariant::Symmetric, JacobianVariant::Spd}) {
     JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
     REQUIRE(assembler.system_nodes() == cloth.node_count() - 2);
-    BlockSparseMatrix<double> a = assembler.make_matrix(), kx = assembler.make_matrix(), kv = assembler.make_matrix();
-    VectorX<double> rhs(a.size());
-    assembler.assemble_system(x, v, dt, variant, a, rhs);
-    assembler.assemble_jacobians(x, v, variant, kx, kv);
+    LinearSystem<double> system = assembler.make_system();
+    const BlockSparseMatrix<double>& a = system.matrix;
+    const VectorX<double>& rhs = system.rhs;
+    BlockSparseMatrix<double> kx = assembler.make_matrix(), kv = assembler.make_matrix();
+    assembler.assemble_system(x, v, 0, dt, variant, system);
+    assembler.assemble_jacobians(x, v, 0, variant, kx, kv);
     VectorX<double> m(a.size());
     VectorX<double> vf(a.size());
     Matrix3X<double> f(3, cloth.node_count());
-    ForceAssembler<double>(cloth, 1).force(x, v, f);
+    ForceAssembler<double>(cloth, 1).force(x, v, 0, f);
     VectorX<double> ff(a.size());
     for (int r = 0; r < assembler.system_nodes(); ++r) {
       const int node = assembler.node_of_row()[static_cast<std::size_t>(r)];
@@ -177,12 +179,14 @@ TEST_CASE("float assembly agrees with double", "[jacobian][float]") {
   const Matrix3X<double> v = test::random_velocities<double>(cloth_d.node_count(), 1.0, 32u);
   JacobianAssembler<double> ad(cloth_d, PinTreatment::Eliminate, 1);
   JacobianAssembler<float> af(cloth_f, PinTreatment::Eliminate, 1);
-  BlockSparseMatrix<double> md = ad.make_matrix();
-  BlockSparseMatrix<float> mf = af.make_matrix();
-  VectorX<double> bd(md.size());
-  VectorX<float> bf(mf.size());
-  ad.assemble_system(x, v, 0.01, JacobianVariant::Exact, md, bd);
-  af.assemble_system(x.cast<float>(), v.cast<float>(), 0.01f, JacobianVariant::Exact, mf, bf);
+  LinearSystem<double> sd = ad.make_system();
+  LinearSystem<float> sf = af.make_system();
+  const BlockSparseMatrix<double>& md = sd.matrix;
+  const BlockSparseMatrix<float>& mf = sf.matrix;
+  const VectorX<double>& bd = sd.rhs;
+  const VectorX<float>& bf = sf.rhs;
+  ad.assemble_system(x, v, 0, 0.01, JacobianVariant::Exact, sd);
+  af.assemble_system(x.cast<float>(), v.cast<float>(), 0, 0.01f, JacobianVariant::Exact, sf);
   CHECK(max_relative_error(mf.to_dense().cast<double>(), md.to_dense()) < 1e-5);
   CHECK((bf.cast<double>() - bd).cwiseAbs().maxCoeff() < 1e-5 * std::max(1.0, bd.cwiseAbs().maxCoeff()));
 }
@@ -197,11 +201,15 @@ TEST_CASE("reassembly overwrites every value of the system (no stale blocks)", "
   const Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 42u);
   for (JacobianVariant variant : {JacobianVariant::Exact, JacobianVariant::Spd}) {
     JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
-    BlockSparseMatrix<double> fresh = assembler.make_matrix(), reused = assembler.make_matrix();
-    VectorX<double> b_fresh(fresh.size()), b_reused = VectorX<double>::Constant(fresh.size(), 1e30);
+    LinearSystem<double> fresh_system = assembler.make_system(), reused_system = assembler.make_system();
+    const BlockSparseMatrix<double>& fresh = fresh_system.matrix;
+    BlockSparseMatrix<double>& reused = reused_system.matrix;
+    const VectorX<double>& b_fresh = fresh_system.rhs;
+    VectorX<double>& b_reused = reused_system.rhs;
+    b_reused.setConstant(1e30);
     std::fill(reused.values(), reused.values() + 9 * reused.block_count(), 1e30);
-    assembler.assemble_system(x, v, 0.02, variant, fresh, b_fresh);
-    assembler.assemble_system(x, v, 0.02, variant, reused, b_reused);
+    assembler.assemble_system(x, v, 0, 0.02, variant, fresh_system);
+    assembler.assemble_system(x, v, 0, 0.02, variant, reused_system);
     INFO(to_string(variant));
     CHECK(reused.to_dense() == fresh.to_dense());
     CHECK(b_reused == b_fresh);
@@ -217,21 +225,22 @@ TEST_CASE("the edge form holds each spring's C: symmetric (6 values) unless Exac
   const Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 52u);
   for (JacobianVariant variant : {JacobianVariant::Exact, JacobianVariant::Symmetric, JacobianVariant::Spd}) {
     JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
-    BlockSparseMatrix<double> a = assembler.make_matrix();
-    VectorX<double> b(a.size());
-    assembler.assemble_system(x, v, 0.02, variant, a, b);
-    REQUIRE(a.edge_form_valid());
-    CHECK(a.edge_form_symmetric() == (variant != JacobianVariant::Exact));
+    LinearSystem<double> system = assembler.make_system();
+    const BlockSparseMatrix<double>& a = system.matrix;
+    const EdgeOperator<double>& edges = system.edges;
+    assembler.assemble_system(x, v, 0, 0.02, variant, system);
+    REQUIRE(edges.valid());
+    CHECK(edges.symmetric() == (variant != JacobianVariant::Exact));
     Dense rebuilt = Dense::Zero(a.size(), a.size());
-    for (int r = 0; r < a.block_rows(); ++r) rebuilt.block<3, 3>(3 * r, 3 * r).diagonal().setConstant(a.row_mass()[r]);
-    for (int e = 0; e < a.edge_count(); ++e) {
-      const double* c = a.edge_values() + a.edge_stride() * e;
+    for (int r = 0; r < a.block_rows(); ++r) rebuilt.block<3, 3>(3 * r, 3 * r).diagonal().setConstant(edges.row_mass()[r]);
+    for (int e = 0; e < edges.edge_count(); ++e) {
+      const double* c = edges.values() + edges.stride() * e;
       Mat3<double> block;
-      if (a.edge_form_symmetric())
+      if (edges.symmetric())
         block << c[0], c[1], c[3], c[1], c[2], c[4], c[3], c[4], c[5];  // stored row by row
       else
         block = Eigen::Map<const Mat3<double>>(c);
-      const int ra = a.edge_rows()[2 * e], rb = a.edge_rows()[2 * e + 1];
+      const int ra = edges.edge_rows()[2 * e], rb = edges.edge_rows()[2 * e + 1];
       if (ra >= 0) rebuilt.block<3, 3>(3 * ra, 3 * ra) += block;
       if (rb >= 0) rebuilt.block<3, 3>(3 * rb, 3 * rb) += block;
       if (ra >= 0 && rb >= 0) {
@@ -258,13 +267,16 @@ TEST_CASE("system assembly on two threads equals one thread bit for bit", "[jaco
   for (JacobianVariant variant : {JacobianVariant::Exact, JacobianVariant::Spd}) {
     JacobianAssembler<double> one(cloth, PinTreatment::Eliminate, 1), two(cloth, PinTreatment::Eliminate, 2);
     REQUIRE(two.threads() == 2);
-    BlockSparseMatrix<double> a1 = one.make_matrix(), a2 = two.make_matrix();
-    VectorX<double> b1(a1.size()), b2(a2.size());
-    one.assemble_system(x, v, 0.02, variant, a1, b1);
-    two.assemble_system(x, v, 0.02, variant, a2, b2);
+    LinearSystem<double> s1 = one.make_system(), s2 = two.make_system();
+    const BlockSparseMatrix<double>& a1 = s1.matrix;
+    const BlockSparseMatrix<double>& a2 = s2.matrix;
+    const VectorX<double>& b1 = s1.rhs;
+    const VectorX<double>& b2 = s2.rhs;
+    one.assemble_system(x, v, 0, 0.02, variant, s1);
+    two.assemble_system(x, v, 0, 0.02, variant, s2);
     INFO(to_string(variant));
     CHECK(std::equal(a1.values(), a1.values() + 9 * a1.block_count(), a2.values()));
-    CHECK(std::equal(a1.edge_values(), a1.edge_values() + a1.edge_stride() * a1.edge_count(), a2.edge_values()));
+    CHECK(std::equal(s1.edges.values(), s1.edges.values() + s1.edges.stride() * s1.edges.edge_count(), s2.edges.values()));
     CHECK(b1 == b2);
   }
 }

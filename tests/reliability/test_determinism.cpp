@@ -7,7 +7,7 @@
 
 #include "drape/core/cloth.hpp"
 #include "drape/fwd.hpp"
-#include "drape/core/parallel.hpp"
+#include "drape/core/team.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/solvers/enable_ldlt.hpp"  // opt-in solver used below
@@ -26,12 +26,12 @@ bool same_bits(const Stated& a, const Stated& b) {
          std::memcmp(&a.time, &b.time, sizeof a.time) == 0;
 }
 
-/// The brief's scene (33 x 33, two corners), run `steps` steps of `dt` from rest; every step must
-/// succeed.
-Stated run(const std::function<StepStatus(Stated&, double)>& step, const Clothd& cloth, int steps, double dt) {
+/// The course model's scene (33 x 33, two corners), run `steps` steps of the integrator's dt from
+/// rest; every step must succeed.
+Stated run(Integrator<double>& integrator, const Clothd& cloth, int steps) {
   Stated s = cloth.initial_state();
   for (int k = 0; k < steps; ++k) {
-    const StepStatus status = step(s, dt);
+    const StepStatus status = integrator.step(s);
     REQUIRE(status.ok());
   }
   return s;
@@ -47,19 +47,20 @@ ClothSpecd threaded_spec() {
 }
 
 Stated run_rk2(const Clothd& cloth, int threads, int steps) {
-  Rk2<double> rk2(cloth, threads);
+  Rk2<double> rk2(cloth, {IntegratorOptions{}.dt, threads});  // the default dt
   // The point of the 2-thread runs is lost if the assembler quietly falls back to one thread.
   REQUIRE(rk2.forces().threads() == std::min(threads, max_threads()));
-  return run([&](Stated& s, double dt) { return rk2.step(s, dt); }, cloth, steps, ClothSpecd::default_dt());
+  return run(rk2, cloth, steps);
 }
 
 Stated run_implicit(const Clothd& cloth, int threads, int steps, const std::string& solver = "cg") {
   ImplicitOptions o;
+  o.dt = 1.0 / 60;
   o.threads = threads;
-  o.solver = solver;
+  o.solver = parse<LinearSolverKind>(solver);
   ImplicitEuler<double> ie(cloth, o);
   REQUIRE(ie.assembler().threads() == std::min(threads, max_threads()));
-  return run([&](Stated& s, double dt) { return ie.step(s, dt); }, cloth, steps, 1.0 / 60);
+  return run(ie, cloth, steps);
 }
 
 double max_abs_difference(const Stated& a, const Stated& b) {

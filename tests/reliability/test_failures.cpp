@@ -36,11 +36,10 @@ void require_unchanged(const Stated& s, const Stated& before) {
 
 /// Steps until the first failure (at most `max_steps`); returns the failing step's status and
 /// its index, and checks that every successful step left a finite state.
-template <class Step>
-std::pair<StepStatus, int> run_until_failure(Step&& step, Stated& s, double dt, int max_steps) {
+std::pair<StepStatus, int> run_until_failure(Integrator<double>& integrator, Stated& s, int max_steps) {
   for (int k = 0; k < max_steps; ++k) {
     const Stated before = s;
-    const StepStatus status = step(s, dt);
+    const StepStatus status = integrator.step(s);
     if (!status.ok()) {
       require_unchanged(s, before);
       return {status, k};
@@ -57,9 +56,9 @@ TEST_CASE("RK2 with very stiff springs at a large dt diverges: reported, state k
   ClothSpecd spec;
   spec.springs.structural.stiffness = 2e6;  // 100x the default: stable limit ~0.1 ms
   const Clothd cloth(spec);
-  Rk2<double> rk2(cloth, 1);
+  Rk2<double> rk2(cloth, {2e-3, 1});
   Stated s = cloth.initial_state();
-  const auto [status, at] = run_until_failure([&](Stated& st, double dt) { return rk2.step(st, dt); }, s, 2e-3, 2000);
+  const auto [status, at] = run_until_failure(rk2, s, 2000);
   INFO("failed at step " << at << ": " << to_string(status.error));
   REQUIRE(status.error == StepError::NonFiniteState);
   REQUIRE(at > 0);  // it blew up over several steps, not through bad input
@@ -72,9 +71,10 @@ TEST_CASE("RK2 with very stiff springs at a large dt diverges: reported, state k
 TEST_CASE("implicit Euler with a huge dt: a failure is reported and the state kept, never a NaN state",
           "[reliability][failure]") {
   const Clothd cloth{ClothSpecd{}};
-  const auto make = [&](const std::string& solver) {
+  const auto make = [&](const std::string& solver, double dt) {
     ImplicitOptions o;
-    o.solver = solver;
+    o.dt = dt;
+    o.solver = parse<LinearSolverKind>(solver);
     o.max_iterations = 200;
     return ImplicitEuler<double>(cloth, o);
   };
@@ -82,38 +82,41 @@ TEST_CASE("implicit Euler with a huge dt: a failure is reported and the state ke
     // (Multigrid-preconditioned cg, the default, does converge here: the coarse levels carry the
     // stiffness that Jacobi cannot.)
     ImplicitOptions o;
-    o.preconditioner = Preconditioner::BlockJacobi;
+    o.dt = 1e6;
+    o.preconditioner = PreconditionerKind::BlockJacobi;
     o.max_iterations = 200;
     ImplicitEuler<double> ie(cloth, o);
     Stated s = cloth.initial_state();
     const Stated before = s;
-    const StepStatus status = ie.step(s, 1e6);
+    const StepStatus status = ie.step(s);
     REQUIRE(status.error == StepError::NoConvergence);
     REQUIRE(status.residual > 1e-6);
     require_unchanged(s, before);
   }
   SECTION("ldlt at dt = 1e9 s with absurd speeds: the result overflows") {
-    ImplicitEuler<double> ie = make("ldlt");
+    ImplicitEuler<double> ie = make("ldlt", 1e9);
     Stated s = cloth.initial_state();
     s.velocities.setConstant(1e300);
     const Stated before = s;
-    REQUIRE(ie.step(s, 1e9).error == StepError::NonFiniteState);
+    REQUIRE(ie.step(s).error == StepError::NonFiniteState);
     require_unchanged(s, before);
   }
   SECTION("every solver, dt up to 1e9 s: success means a finite state, failure means no change") {
     int failures = 0;
-    for (const std::string& solver : available_solvers()) {
+    for (const LinearSolverKind kind : available_solvers()) {
+      const std::string solver = to_string(kind);
       for (double dt : {1e3, 1e6, 1e9}) {
         for (double speed : {0.0, 1e300}) {
           ImplicitOptions o;
-          o.solver = solver;
+          o.dt = dt;
+          o.solver = kind;
           o.max_iterations = 200;
-          if (!solver_requires_symmetric(solver)) o.jacobian = JacobianVariant::Exact;
+          if (!solver_info(kind).capabilities.symmetric_only) o.jacobian = JacobianVariant::Exact;
           ImplicitEuler<double> ie(cloth, o);
           Stated s = cloth.initial_state();
           s.velocities.setConstant(speed);
           const Stated before = s;
-          const StepStatus status = ie.step(s, dt);
+          const StepStatus status = ie.step(s);
           INFO(solver << ", dt " << dt << ", speed " << speed << ": " << to_string(status.error));
           if (status.ok()) {
             REQUIRE(s.positions.allFinite());
@@ -132,11 +135,12 @@ TEST_CASE("implicit Euler with a huge dt: a failure is reported and the state ke
 TEST_CASE("a CG iteration cap too low to converge is reported with the iterations used", "[reliability][failure]") {
   const Clothd cloth{ClothSpecd{}};
   ImplicitOptions o;
+  o.dt = 1.0 / 60;
   o.max_iterations = 2;
   o.tolerance = 1e-10;
   ImplicitEuler<double> ie(cloth, o);
   Stated s = cloth.initial_state();
-  const auto [status, at] = run_until_failure([&](Stated& st, double dt) { return ie.step(st, dt); }, s, 1.0 / 60, 50);
+  const auto [status, at] = run_until_failure(ie, s, 50);
   INFO("failed at step " << at);
   REQUIRE(status.error == StepError::NoConvergence);
   REQUIRE(status.iterations == 2);
@@ -151,33 +155,35 @@ TEST_CASE("two coincident nodes (a zero-length spring) are reported, not turned 
   s.positions.col(41) = s.positions.col(40);  // neighbours along x: a structural spring of length 0
   const Stated before = s;
   SECTION("RK2") {
-    Rk2<double> rk2(cloth, 1);
-    const StepStatus status = rk2.step(s, ClothSpecd::default_dt());
+    Rk2<double> rk2(cloth, {IntegratorOptions{}.dt, 1});  // the default dt
+    const StepStatus status = rk2.step(s);
     REQUIRE(status.error == StepError::NonFiniteState);
     require_unchanged(s, before);
   }
   SECTION("implicit, every solver") {
-    for (const std::string& solver : available_solvers()) {
+    for (const LinearSolverKind kind : available_solvers()) {
+      const std::string solver = to_string(kind);
       ImplicitOptions o;
-      o.solver = solver;
-      if (!solver_requires_symmetric(solver)) o.jacobian = JacobianVariant::Exact;
+      o.dt = 1.0 / 60;
+      o.solver = kind;
+      if (!solver_info(kind).capabilities.symmetric_only) o.jacobian = JacobianVariant::Exact;
       ImplicitEuler<double> ie(cloth, o);
-      const StepStatus status = ie.step(s, 1.0 / 60);
+      const StepStatus status = ie.step(s);
       INFO(solver << ": " << to_string(status.error));
       REQUIRE_FALSE(status.ok());
       require_unchanged(s, before);
       // The integrator is still usable: a good state steps fine afterwards.
       Stated good = cloth.initial_state();
-      REQUIRE(ie.step(good, 1.0 / 60).ok());
+      REQUIRE(ie.step(good).ok());
     }
   }
 }
 
 TEST_CASE("bad state files: truncated, corrupt or wrong-sized -> an error naming the file", "[reliability][state_io]") {
   const Clothd cloth{ClothSpecd{}};
-  Rk2<double> rk2(cloth, 1);
+  Rk2<double> rk2(cloth, {5e-4, 1});
   Stated s = cloth.initial_state();
-  for (int k = 0; k < 20; ++k) REQUIRE(rk2.step(s, 5e-4).ok());
+  for (int k = 0; k < 20; ++k) REQUIRE(rk2.step(s).ok());
   const fs::path dir = fs::temp_directory_path() / "drape_test_reliability_state";
   fs::remove_all(dir);
   fs::create_directories(dir);

@@ -10,12 +10,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <string>
 
 #include "drape/core/cloth.hpp"
 #include "drape/fwd.hpp"
-#include "drape/integrators/implicit_euler.hpp"
-#include "drape/integrators/rk2.hpp"
+#include "drape/integrators/make_integrator.hpp"
 #include "drape/physics/diagnostics.hpp"
 
 namespace {
@@ -37,18 +37,19 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string integrator = argv[1];
-  const long long steps = std::atoll(argv[2]);
-  const drape::Clothd cloth{drape::ClothSpecd{}};
-  const double dt = argc > 3 ? std::atof(argv[3]) : (integrator == "rk2" ? drape::ClothSpecd::default_dt() : 1.0 / 60);
-  const int threads = argc > 4 ? std::atoi(argv[4]) : 1;
-  drape::Rk2<double> rk2(cloth, threads);
-  drape::ImplicitOptions o;
-  o.threads = threads;
-  drape::ImplicitEuler<double> implicit(cloth, o);
-  if (integrator != "rk2" && integrator != "implicit") {
+  drape::IntegratorKind kind{};
+  if (!drape::try_parse(integrator, kind)) {
     std::fprintf(stderr, "drape_soak: integrator must be rk2 or implicit\n");
     return 2;
   }
+  const long long steps = std::atoll(argv[2]);
+  const drape::Clothd cloth{drape::ClothSpecd{}};
+  drape::ImplicitOptions o;
+  o.dt = argc > 3 ? std::atof(argv[3]) : (kind == drape::IntegratorKind::Rk2 ? drape::IntegratorOptions{}.dt : 1.0 / 60);
+  o.threads = argc > 4 ? std::atoi(argv[4]) : 1;
+  const double dt = o.dt;
+  const int threads = o.threads;
+  const std::unique_ptr<drape::Integrator<double>> stepper = drape::make_integrator(cloth, kind, o);
   drape::Stated s = cloth.initial_state();
   const auto energy = [&] {
     return drape::kinetic_energy(cloth, s) + drape::spring_potential_energy(cloth, s.positions) +
@@ -64,7 +65,7 @@ int main(int argc, char** argv) {
   std::printf("soak: %s, %lld steps of dt = %.6g s (%.1f s simulated), %d thread(s), E0 = %.6g J\n",
               integrator.c_str(), steps, dt, double(steps) * dt, threads, e0);
   for (long long k = 1; k <= steps; ++k) {
-    const drape::StepStatus status = integrator == "rk2" ? rk2.step(s, dt) : implicit.step(s, dt);
+    const drape::StepStatus status = stepper->step(s);
     if (!status) {
       std::printf("soak: FAILED at step %lld (t = %.6g s): %s\n", k, s.time, drape::to_string(status.error));
       return 1;

@@ -25,9 +25,10 @@ template <class S = double>
 struct Problem {
   Cloth<S> cloth;
   JacobianAssembler<S> assembler;
-  BlockSparseMatrix<S> a;
-  VectorX<S> b;
-  GridLayout layout;
+  LinearSystem<S> system;
+  const BlockSparseMatrix<S>& a = system.matrix;
+  const VectorX<S>& b = system.rhs;
+  const GridLayout& layout = system.layout;
 
   Problem(int n, PinTreatment pins, S dt = S(1) / S(60))
       : cloth([n] {
@@ -39,10 +40,8 @@ struct Problem {
     const Matrix3X<S> x = test::jiggled_positions(cloth, S(0.05), 7u);
     Matrix3X<S> v = test::random_velocities<S>(cloth.node_count(), S(1), 8u);
     for (int p : cloth.pins().nodes()) v.col(p).setZero();
-    a = assembler.make_matrix();
-    b.resize(3 * assembler.system_nodes());
-    assembler.assemble_system(x, v, dt, JacobianVariant::Spd, a, b);
-    layout = {n, n, assembler.row_of_node()};
+    system = assembler.make_system();
+    assembler.assemble_system(x, v, 0, dt, JacobianVariant::Spd, system);
   }
 };
 
@@ -53,21 +52,20 @@ std::unique_ptr<Problem<S>> make_problem(int n, PinTreatment pins = PinTreatment
 
 struct Solve {
   VectorX<double> x;
-  StepStatus status;
+  SolveStatus status;
 };
 
-Solve pcg(const Problem<double>& p, Preconditioner preconditioner, double tolerance, int threads = 1,
-          const std::uint8_t* filter = nullptr) {
+/// CG on p's system (its constraints: the pinned rows under PinTreatment::Filter).
+Solve pcg(const Problem<double>& p, PreconditionerKind preconditioner, double tolerance, int threads = 1) {
   IterativeSettings settings;
   settings.tolerance = tolerance;
   settings.threads = threads;
   settings.max_iterations = 5000;
   settings.preconditioner = preconditioner;
   PcgSolver<double> solver(settings);
-  solver.set_grid_layout(p.layout);
-  solver.analyze(p.a);
+  solver.analyze(p.system);
   Solve s{VectorX<double>::Zero(p.b.size()), {}};
-  s.status = solver.solve(p.a, p.b, s.x, filter);
+  s.status = solver.solve(p.system, s.x);
   return s;
 }
 
@@ -94,7 +92,7 @@ TEST_CASE("multigrid: each coarser lattice keeps every other line and the last o
 
   const auto p = make_problem<double>(33);
   MultigridPreconditioner<double> mg;
-  mg.analyze(p->layout, p->a);
+  mg.analyze(p->system);
   // 33 -> 17 -> 9 -> 5 -> 3 nodes per side, minus the two pinned corners on every level.
   CHECK(mg.level_rows() == std::vector<int>{33 * 33 - 2, 17 * 17 - 2, 9 * 9 - 2, 5 * 5 - 2, 3 * 3 - 2});
 }
@@ -103,7 +101,7 @@ TEST_CASE("multigrid: prolongation is bilinear interpolation, without the elimin
   for (PinTreatment pins : {PinTreatment::Filter, PinTreatment::Eliminate}) {
     const auto p = make_problem<double>(17, pins);
     MultigridPreconditioner<double> mg;
-    mg.analyze(p->layout, p->a);
+    mg.analyze(p->system);
     const Eigen::SparseMatrix<double> prolong = mg.prolongation(1);
     // Coarse values of a linear function of the lattice coordinates (i, j) are interpolated exactly.
     const int nc = 9;
@@ -137,8 +135,8 @@ TEST_CASE("multigrid: prolongation is bilinear interpolation, without the elimin
 TEST_CASE("multigrid: coarse operators are the Galerkin products P^T A P", "[multigrid]") {
   const auto p = make_problem<double>(17);
   MultigridPreconditioner<double> mg;
-  mg.analyze(p->layout, p->a);
-  REQUIRE(mg.update_in_team(p->a));
+  mg.analyze(p->system);
+  REQUIRE(mg.update_in_team(p->system));
   Eigen::MatrixXd fine = p->a.to_dense();
   REQUIRE(mg.level_count() >= 3);
   for (int l = 1; l < mg.level_count(); ++l) {
@@ -154,8 +152,8 @@ TEST_CASE("multigrid: coarse operators are the Galerkin products P^T A P", "[mul
 TEST_CASE("multigrid: the V-cycle is a symmetric positive definite operator", "[multigrid]") {
   const auto p = make_problem<double>(33);
   MultigridPreconditioner<double> mg;
-  mg.analyze(p->layout, p->a);
-  REQUIRE(mg.update_in_team(p->a));
+  mg.analyze(p->system);
+  REQUIRE(mg.update_in_team(p->system));
   for (unsigned seed = 1; seed <= 5; ++seed) {
     const VectorX<double> u = test::random_velocities<double>(p->a.block_rows(), 1.0, seed).reshaped();
     const VectorX<double> v = test::random_velocities<double>(p->a.block_rows(), 1.0, seed + 100).reshaped();
@@ -169,12 +167,12 @@ TEST_CASE("multigrid: the V-cycle is a symmetric positive definite operator", "[
 TEST_CASE("multigrid CG: a handful of iterations at every size, and the direct solve's answer", "[multigrid]") {
   for (int n : {9, 17, 33, 65}) {
     const auto p = make_problem<double>(n);
-    const Solve mg = pcg(*p, Preconditioner::Multigrid, 1e-8);
-    const Solve jacobi = pcg(*p, Preconditioner::BlockJacobi, 1e-8);
+    const Solve mg = pcg(*p, PreconditionerKind::Multigrid, 1e-8);
+    const Solve jacobi = pcg(*p, PreconditionerKind::BlockJacobi, 1e-8);
     EigenLdltSolver<double> direct;
-    direct.analyze(p->a);
+    direct.analyze(p->system);
     VectorX<double> exact = VectorX<double>::Zero(p->b.size());
-    REQUIRE(direct.solve(p->a, p->b, exact).ok());
+    REQUIRE(direct.solve(p->system, exact).ok());
     INFO(n << " x " << n << ": multigrid " << mg.status.iterations << " iterations, block Jacobi "
            << jacobi.status.iterations);
     REQUIRE(mg.status.ok());
@@ -188,8 +186,8 @@ TEST_CASE("multigrid CG: a handful of iterations at every size, and the direct s
 TEST_CASE("multigrid CG: filtered pins give the eliminated pins' answer", "[multigrid]") {
   const auto eliminated = make_problem<double>(17, PinTreatment::Eliminate);
   const auto filtered = make_problem<double>(17, PinTreatment::Filter);
-  const Solve e = pcg(*eliminated, Preconditioner::Multigrid, 1e-10);
-  const Solve f = pcg(*filtered, Preconditioner::Multigrid, 1e-10, 1, filtered->assembler.filter().data());
+  const Solve e = pcg(*eliminated, PreconditionerKind::Multigrid, 1e-10);
+  const Solve f = pcg(*filtered, PreconditionerKind::Multigrid, 1e-10, 1);
   REQUIRE(e.status.ok());
   REQUIRE(f.status.ok());
   CHECK(f.status.iterations <= 40);  // weaker coarse correction next to pins kept in the system
@@ -208,9 +206,9 @@ TEST_CASE("multigrid CG: filtered pins give the eliminated pins' answer", "[mult
 
 TEST_CASE("multigrid CG: two threads agree with one, and repeat bitwise", "[multigrid][threads]") {
   const auto p = make_problem<double>(129);  // above the team thresholds: both threads work
-  const Solve one = pcg(*p, Preconditioner::Multigrid, 1e-8, 1);
-  const Solve two = pcg(*p, Preconditioner::Multigrid, 1e-8, 2);
-  const Solve again = pcg(*p, Preconditioner::Multigrid, 1e-8, 2);
+  const Solve one = pcg(*p, PreconditionerKind::Multigrid, 1e-8, 1);
+  const Solve two = pcg(*p, PreconditionerKind::Multigrid, 1e-8, 2);
+  const Solve again = pcg(*p, PreconditionerKind::Multigrid, 1e-8, 2);
   REQUIRE(one.status.ok());
   REQUIRE(two.status.ok());
   CHECK((two.x - one.x).norm() <= 1e-6 * one.x.norm());
@@ -220,7 +218,7 @@ TEST_CASE("multigrid CG: two threads agree with one, and repeat bitwise", "[mult
 
 TEST_CASE("multigrid: a grid small enough for one level is solved exactly", "[multigrid]") {
   const auto p = make_problem<double>(3);  // 7 free nodes <= max_direct_rows
-  const Solve s = pcg(*p, Preconditioner::Multigrid, 1e-10);
+  const Solve s = pcg(*p, PreconditionerKind::Multigrid, 1e-10);
   REQUIRE(s.status.ok());
   CHECK(s.status.iterations <= 1);
 }
@@ -230,12 +228,11 @@ TEST_CASE("multigrid: float", "[multigrid][float]") {
   IterativeSettings settings;
   settings.tolerance = 1e-4;
   settings.threads = 1;
-  settings.preconditioner = Preconditioner::Multigrid;
+  settings.preconditioner = PreconditionerKind::Multigrid;
   PcgSolver<float> solver(settings);
-  solver.set_grid_layout(p->layout);
-  solver.analyze(p->a);
+  solver.analyze(p->system);
   VectorX<float> x = VectorX<float>::Zero(p->b.size());
-  const StepStatus status = solver.solve(p->a, p->b, x);
+  const SolveStatus status = solver.solve(p->system, x);
   REQUIRE(status.ok());
   CHECK(status.iterations <= 15);
   CHECK((p->b - p->a.to_dense() * x).norm() <= 2e-4f * p->b.norm());
@@ -244,16 +241,18 @@ TEST_CASE("multigrid: float", "[multigrid][float]") {
 TEST_CASE("multigrid: bad set-up is rejected with the parameter's name", "[multigrid][validation]") {
   const auto p = make_problem<double>(9);
   IterativeSettings settings;
-  settings.preconditioner = Preconditioner::Multigrid;
+  settings.preconditioner = PreconditionerKind::Multigrid;
   PcgSolver<double> no_layout(settings);
-  CHECK_THROWS_WITH(no_layout.analyze(p->a), Catch::Contains("preconditioner"));
+  LinearSystem<double> without_layout = p->system;
+  without_layout.layout = GridLayout{};
+  CHECK_THROWS_WITH(no_layout.analyze(without_layout), Catch::Contains("preconditioner"));
   MultigridPreconditioner<double> mg;
-  GridLayout wrong = p->layout;
-  wrong.nx = 8;
-  CHECK_THROWS_AS(mg.analyze(wrong, p->a), std::invalid_argument);
-  CHECK_THROWS_WITH(mg.analyze(wrong, p->a), Catch::Contains("grid layout"));
+  LinearSystem<double> wrong = p->system;
+  wrong.layout.nx = 8;
+  CHECK_THROWS_AS(mg.analyze(wrong), std::invalid_argument);
+  CHECK_THROWS_WITH(mg.analyze(wrong), Catch::Contains("grid layout"));
   MultigridSettings bad;
   bad.omega = 1.5;
   MultigridPreconditioner<double> bad_omega(bad);
-  CHECK_THROWS_WITH(bad_omega.analyze(p->layout, p->a), Catch::Contains("omega"));
+  CHECK_THROWS_WITH(bad_omega.analyze(p->system), Catch::Contains("omega"));
 }

@@ -20,12 +20,16 @@ using namespace drape;
 
 namespace {
 
-struct System {
-  BlockSparseMatrix<double> a;
-  VectorX<double> b;
+/// A linear system with its matrix and right-hand side under their short names.
+struct System : LinearSystem<double> {
+  explicit System(LinearSystem<double> s) : LinearSystem<double>(std::move(s)) {}
+  const BlockSparseMatrix<double>& a = matrix;
+  const VectorX<double>& b = rhs;
+  System(const System& other) : LinearSystem<double>(other) {}
 };
 
-/// The implicit system of a deformed, moving 6x6 cloth with two pinned corners.
+/// The implicit system of a deformed, moving 6x6 cloth with two pinned corners (with
+/// PinTreatment::Filter, the pinned rows are fixed constraints of the system).
 System make_system(JacobianVariant variant, PinTreatment pins = PinTreatment::Eliminate, double dt = 0.01) {
   static const Clothd cloth = [] {
     ClothSpecd spec = test::small_spec<double>(6, 10.0);
@@ -36,20 +40,20 @@ System make_system(JacobianVariant variant, PinTreatment pins = PinTreatment::El
   Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 4u);
   for (int p : cloth.pins().nodes()) v.col(p).setZero();
   JacobianAssembler<double> assembler(cloth, pins, 1);
-  System s{assembler.make_matrix(), VectorX<double>(3 * assembler.system_nodes())};
-  assembler.assemble_system(x, v, dt, variant, s.a, s.b);
-  return s;
+  LinearSystem<double> s = assembler.make_system();
+  assembler.assemble_system(x, v, 0, dt, variant, s);
+  return System(std::move(s));
 }
 
-VectorX<double> solve_with(const std::string& name, const System& s, double tolerance = 1e-10) {
+VectorX<double> solve_with(LinearSolverKind name, const LinearSystem<double>& s, double tolerance = 1e-10) {
   IterativeSettings settings;
   settings.tolerance = tolerance;
   settings.threads = 1;
   auto solver = make_linear_solver<double>(name, settings);
-  solver->analyze(s.a);
-  VectorX<double> x = VectorX<double>::Zero(s.b.size());
-  const StepStatus status = solver->solve(s.a, s.b, x);
-  INFO(name << ": " << to_string(status.error));
+  solver->analyze(s);
+  VectorX<double> x = VectorX<double>::Zero(s.rhs.size());
+  const SolveStatus status = solver->solve(s, x);
+  INFO(to_string(name) << ": " << to_string(status.error));
   REQUIRE(status.ok());
   CHECK(status.residual <= 1e-9);
   return x;
@@ -62,8 +66,8 @@ double relative_difference(const VectorX<double>& a, const VectorX<double>& b) {
 TEST_CASE("every solver gives the dense solution of the symmetric (SPD) system", "[solvers]") {
   const System s = make_system(JacobianVariant::Spd);
   const VectorX<double> reference = s.a.to_dense().lu().solve(s.b);
-  for (const std::string& name : available_solvers()) {
-    INFO(name);
+  for (const LinearSolverKind name : available_solvers()) {
+    INFO(to_string(name));
     CHECK(relative_difference(solve_with(name, s), reference) < 1e-8);
   }
 }
@@ -73,9 +77,9 @@ TEST_CASE("the non-symmetric solvers solve the Exact system", "[solvers]") {
   const Eigen::MatrixXd dense = s.a.to_dense();
   REQUIRE((dense - dense.transpose()).cwiseAbs().maxCoeff() > 1e-6);
   const VectorX<double> reference = dense.lu().solve(s.b);
-  for (const std::string& name : available_solvers()) {
-    if (solver_requires_symmetric(name)) continue;
-    INFO(name);
+  for (const LinearSolverKind name : available_solvers()) {
+    if (solver_info(name).capabilities.symmetric_only) continue;
+    INFO(to_string(name));
     CHECK(relative_difference(solve_with(name, s), reference) < 1e-8);
   }
 }
@@ -87,26 +91,26 @@ TEST_CASE("filtered pins (PCG over all nodes) and eliminated pins give the same 
     ClothSpecd spec = test::small_spec<double>(6, 10.0);
     return Clothd(spec);
   }();
-  JacobianAssembler<double> with_all(cloth, PinTreatment::Filter, 1);
   REQUIRE(filtered.b.size() == eliminated.b.size() + 3 * cloth.pins().count());
-  const VectorX<double> direct = solve_with("ldlt", eliminated);
+  REQUIRE(filtered.constraints.constrained_rows() == cloth.pins().count());
+  const VectorX<double> direct = solve_with(LinearSolverKind::Ldlt, eliminated);
   // PCG multiplies by the edge form on one thread and by block rows otherwise (a team, or a matrix
   // without an edge form): both must apply the filter.
-  BlockSparseMatrix<double> blocks_only = filtered.a;
-  blocks_only.set_edge_form({}, {0}, {});
-  REQUIRE(filtered.a.edge_form_valid());
-  REQUIRE_FALSE(blocks_only.edge_form_valid());
-  const BlockSparseMatrix<double>* const forms[] = {&filtered.a, &blocks_only};
+  System blocks_only = filtered;
+  blocks_only.edges = EdgeOperator<double>();
+  REQUIRE(filtered.edges.valid());
+  REQUIRE_FALSE(blocks_only.edges.valid());
+  const LinearSystem<double>* const forms[] = {&filtered, &blocks_only};
   for (const std::string name : {"cg", "bicgstab"})
-    for (const BlockSparseMatrix<double>* a : forms) {
+    for (const LinearSystem<double>* a : forms) {
       INFO(name << (a == &blocks_only ? ", block rows" : ", edge form"));
       IterativeSettings settings;
       settings.tolerance = 1e-10;
       auto solver = make_linear_solver<double>(name, settings);
-      REQUIRE(solver->supports_filter());
+      REQUIRE(solver->capabilities().supports_constraints);
       solver->analyze(*a);
       VectorX<double> x = VectorX<double>::Ones(filtered.b.size());  // a warm start that violates the pins
-      const StepStatus status = solver->solve(*a, filtered.b, x, with_all.filter().data());
+      const SolveStatus status = solver->solve(*a, x);
       REQUIRE(status.ok());
       // Free rows agree with the eliminated solve, pinned rows are exactly zero.
       VectorX<double> free(direct.size());
@@ -129,16 +133,16 @@ TEST_CASE("CG and LDLT report an indefinite system instead of returning garbage"
   const Matrix3X<double> x = test::jiggled_positions(cloth, 0.05, 5u) * 0.4;
   const Matrix3X<double> v = Matrix3X<double>::Zero(3, cloth.node_count());
   JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
-  BlockSparseMatrix<double> a = assembler.make_matrix();
-  VectorX<double> b(a.size());
-  assembler.assemble_system(x, v, 0.05, JacobianVariant::Symmetric, a, b);
-  b.setOnes();
+  LinearSystem<double> system = assembler.make_system();
+  const BlockSparseMatrix<double>& a = system.matrix;
+  assembler.assemble_system(x, v, 0, 0.05, JacobianVariant::Symmetric, system);
+  system.rhs.setOnes();
   for (const std::string name : {"cg", "ldlt"}) {
     auto solver = make_linear_solver<double>(name);
-    solver->analyze(a);
+    solver->analyze(system);
     VectorX<double> dv = VectorX<double>::Zero(a.size());
     INFO(name);
-    CHECK(solver->solve(a, b, dv).error == StepError::NotPositiveDefinite);
+    CHECK(solver->solve(system, dv).error == SolveError::NotPositiveDefinite);
   }
 }
 
@@ -148,11 +152,11 @@ TEST_CASE("an iterative solver that hits its cap says so", "[solvers]") {
     IterativeSettings settings;
     settings.max_iterations = 2;
     auto solver = make_linear_solver<double>(name, settings);
-    solver->analyze(s.a);
+    solver->analyze(s);
     VectorX<double> x = VectorX<double>::Zero(s.b.size());
-    const StepStatus status = solver->solve(s.a, s.b, x);
+    const SolveStatus status = solver->solve(s, x);
     INFO(name);
-    CHECK(status.error == StepError::NoConvergence);
+    CHECK(status.error == SolveError::NoConvergence);
     CHECK(status.iterations == 2);
     CHECK(status.residual > 1e-6);
   }
@@ -165,17 +169,16 @@ TEST_CASE("PCG with two threads agrees with one thread and is reproducible", "[s
   const Matrix3X<double> x = test::jiggled_positions(cloth, 0.1, 3u);
   const Matrix3X<double> v = Matrix3X<double>::Zero(3, cloth.node_count());
   JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
-  BlockSparseMatrix<double> a = assembler.make_matrix();
-  VectorX<double> b(a.size());
-  assembler.assemble_system(x, v, 0.01, JacobianVariant::Spd, a, b);
+  LinearSystem<double> system = assembler.make_system();
+  assembler.assemble_system(x, v, 0, 0.01, JacobianVariant::Spd, system);
   const auto run = [&](int threads) {
     IterativeSettings settings;
     settings.threads = threads;
     settings.tolerance = 1e-8;
     PcgSolver<double> cg(settings);
-    cg.analyze(a);
-    VectorX<double> dv = VectorX<double>::Zero(a.size());
-    REQUIRE(cg.solve(a, b, dv).ok());
+    cg.analyze(system);
+    VectorX<double> dv = VectorX<double>::Zero(system.size());
+    REQUIRE(cg.solve(system, dv).ok());
     return dv;
   };
   const VectorX<double> one = run(1), two = run(2), two_again = run(2);
@@ -185,7 +188,7 @@ TEST_CASE("PCG with two threads agrees with one thread and is reproducible", "[s
 
 TEST_CASE("float PCG agrees with double", "[solvers][float]") {
   const System s = make_system(JacobianVariant::Spd);
-  const VectorX<double> reference = solve_with("ldlt", s);
+  const VectorX<double> reference = solve_with(LinearSolverKind::Ldlt, s);
   // Same system in float.
   ClothSpecf spec = test::small_spec<float>(6, 10.0f);
   spec.springs = {{2000.0f, 2.0f}, {800.0f, 1.0f}, {100.0f, 0.5f}};
@@ -198,16 +201,15 @@ TEST_CASE("float PCG agrees with double", "[solvers][float]") {
   Matrix3X<float> v = test::random_velocities<double>(cloth.node_count(), 1.0, 4u).cast<float>();
   for (int p : cloth.pins().nodes()) v.col(p).setZero();
   JacobianAssembler<float> assembler(cloth, PinTreatment::Eliminate, 1);
-  BlockSparseMatrix<float> a = assembler.make_matrix();
-  VectorX<float> b(a.size());
-  assembler.assemble_system(x, v, 0.01f, JacobianVariant::Spd, a, b);
+  LinearSystem<float> system = assembler.make_system();
+  assembler.assemble_system(x, v, 0, 0.01f, JacobianVariant::Spd, system);
   IterativeSettings settings;
   settings.tolerance = 1e-5;
   for (const std::string name : {"cg", "ldlt"}) {
     auto solver = make_linear_solver<float>(name, settings);
-    solver->analyze(a);
-    VectorX<float> dv = VectorX<float>::Zero(a.size());
-    REQUIRE(solver->solve(a, b, dv).ok());
+    solver->analyze(system);
+    VectorX<float> dv = VectorX<float>::Zero(system.size());
+    REQUIRE(solver->solve(system, dv).ok());
     INFO(name);
     CHECK(relative_difference(dv.cast<double>(), reference) < 1e-4);
   }
@@ -216,19 +218,17 @@ TEST_CASE("float PCG agrees with double", "[solvers][float]") {
 TEST_CASE("the per-spring (edge) mat-vec equals the block-CSR mat-vec", "[solvers][edges]") {
   for (JacobianVariant variant : {JacobianVariant::Spd, JacobianVariant::Exact}) {
     for (PinTreatment pins : {PinTreatment::Eliminate, PinTreatment::Filter}) {
-      System s = make_system(variant, pins);
-      REQUIRE(s.a.edge_form_valid());
+      const System s = make_system(variant, pins);
+      REQUIRE(s.edges.valid());
       const VectorX<double> x = VectorX<double>::Random(s.b.size());
       VectorX<double> by_edges(x.size()), by_blocks(x.size());
-      s.a.multiply(x.data(), by_edges.data(), 1);
+      s.edges.multiply(x.data(), by_edges.data(), 1);
       VectorX<double> two_threads(x.size());
-      s.a.multiply(x.data(), two_threads.data(), 2);
-      s.a.set_zero();  // invalidates the edge form; restore the blocks and use them
-      s = make_system(variant, pins);
+      s.multiply(x.data(), two_threads.data(), 2);  // the system's product: the edge form, on two threads
       const VectorX<double> dense = s.a.to_dense() * x;
-      BlockSparseMatrix<double> blocks_only = s.a;
-      blocks_only.set_edge_form({}, {0}, {});
-      REQUIRE_FALSE(blocks_only.edge_form_valid());
+      System blocks_only = s;
+      blocks_only.edges.invalidate();
+      REQUIRE_FALSE(blocks_only.edges.valid());
       blocks_only.multiply(x.data(), by_blocks.data(), 1);
       INFO(to_string(variant) << ", pins " << int(pins));
       CHECK((by_blocks - dense).cwiseAbs().maxCoeff() < 1e-12 * dense.cwiseAbs().maxCoeff());
@@ -240,29 +240,32 @@ TEST_CASE("the per-spring (edge) mat-vec equals the block-CSR mat-vec", "[solver
 
 TEST_CASE("opt-in solvers: registered by their header, otherwise rejected naming it", "[solvers][registry]") {
   // This program includes enable_ldlt.hpp and enable_lu.hpp: both are registered, for both scalars.
-  const std::vector<std::string> available = available_solvers();
+  const std::vector<LinearSolverKind> available = available_solvers();
   for (const std::string name : {"ldlt", "lu"}) {
     INFO(name);
-    CHECK(std::find(available.begin(), available.end(), name) != available.end());
+    const LinearSolverKind kind = parse<LinearSolverKind>(name);
+    CHECK(std::find(available.begin(), available.end(), kind) != available.end());
     CHECK(std::string(make_linear_solver<double>(name)->name()) == name);
     CHECK(std::string(make_linear_solver<float>(name)->name()) == name);
   }
   // A program that includes neither header: simulated by emptying the registry for a moment.
-  auto& registered = detail::registered_solvers<double>();
+  auto& registered = detail::solver_factories<double>();
   const auto saved = registered;
-  registered.clear();
+  registered[static_cast<std::size_t>(LinearSolverKind::Ldlt)] = nullptr;
+  registered[static_cast<std::size_t>(LinearSolverKind::Lu)] = nullptr;
   for (const std::string name : {"ldlt", "lu"}) {
     INFO(name);
+    const LinearSolverKind kind = parse<LinearSolverKind>(name);
     bool thrown = false;
     try {
-      detail::require_available_solver(name);
+      require_solver_available(kind);
     } catch (const std::invalid_argument& e) {
       thrown = true;
       CHECK_THAT(e.what(), Catch::Contains("solver") && Catch::Contains("drape/solvers/enable_" + name + ".hpp"));
     }
     CHECK(thrown);
-    const std::vector<std::string> without = available_solvers();
-    CHECK(std::find(without.begin(), without.end(), name) == without.end());
+    const std::vector<LinearSolverKind> without = available_solvers();
+    CHECK(std::find(without.begin(), without.end(), kind) == without.end());
   }
   registered = saved;
   CHECK_THROWS_AS(make_linear_solver<double>("magic"), std::invalid_argument);

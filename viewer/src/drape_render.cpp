@@ -10,7 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
+#include <memory>
 #include <optional>
 #include <spawn.h>
 #include <string>
@@ -19,9 +19,7 @@
 #include <vector>
 
 #include "drape/core/cloth.hpp"
-#include "drape/fwd.hpp"
-#include "drape/integrators/implicit_euler.hpp"
-#include "drape/integrators/rk2.hpp"
+#include "drape/integrators/make_integrator.hpp"
 #include "drape/io/obj.hpp"
 #include "drape/io/state_io.hpp"
 #include "drape/physics/diagnostics.hpp"
@@ -38,40 +36,43 @@ namespace {
 
 using drape::render::Settings;
 using drape::render::SettingsError;
-using Stepper = std::function<drape::StepStatus(drape::Stated&, double)>;
 
 constexpr int exit_runtime_error = 1;
 constexpr int exit_bad_settings = 2;
 constexpr int exit_simulation_failed = 3;
 
-drape::ClothSpecd make_spec(const Settings& s) {
-  drape::ClothSpecd spec;
-  spec.nx = s.nx;
-  spec.ny = s.ny;
-  spec.spacing = s.spacing;
-  spec.node_mass = s.mass;
-  spec.gravity = s.gravity;
-  spec.dt = s.dt;
-  spec.springs = {{s.structural_ks, s.structural_kd}, {s.shear_ks, s.shear_kd}, {s.bend_ks, s.bend_kd}};
-  spec.boundary = s.boundary == 1 ? drape::BoundaryCondition::OneCorner : drape::BoundaryCondition::TwoCorners;
-  if (s.pins_given) spec.pinned_nodes = s.pins;
-  return spec;
-}
+/// Thrown to end the run with an exit code and a message already printed.
+struct Stop {
+  int exit_code;
+};
 
-/// The chosen integrator behind one call signature, so the loops below do not care which it is.
-Stepper make_stepper(const Settings& s, const drape::Clothd& cloth) {
-  if (s.integrator == "implicit") {
-    auto implicit = std::make_shared<drape::ImplicitEuler<double>>(cloth, drape::render::implicit_options(s));
-    return [implicit](drape::Stated& state, double dt) { return implicit->step(state, dt); };
-  }
-  auto rk2 = std::make_shared<drape::Rk2<double>>(cloth, s.threads);
-  return [rk2](drape::Stated& state, double dt) { return rk2->step(state, dt); };
+[[noreturn]] void stop(int exit_code, const std::string& message) {
+  std::fprintf(stderr, "drape-render: error: %s\n", message.c_str());
+  throw Stop{exit_code};
 }
 
 std::string frame_name(const std::string& out, int frame, const char* ext) {
   char name[64];
   std::snprintf(name, sizeof name, "/frame_%05d.%s", frame, ext);
   return out + name;
+}
+
+/// Creates the output folder and proves it writable (read-only folders and full disks fail here,
+/// not after the first frame).
+void prepare_output_folder(const std::string& out) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec || !fs::is_directory(out))
+    stop(exit_runtime_error, "cannot create output folder '" + out + "': " +
+                                 (ec ? ec.message() : std::string("a file of that name exists")));
+  try {
+    const std::string probe = out + "/.drape-render-probe";
+    drape::write_file_atomically(probe, [](std::FILE* f) { return std::fputs("probe\n", f) >= 0; });
+    fs::remove(probe, ec);
+  } catch (const drape::FileWriteError& e) {
+    stop(exit_runtime_error, "output folder '" + out + "' is not writable: " + e.what());
+  }
 }
 
 /// One line on a terminal, rewritten in place; nothing when stderr is not a terminal.
@@ -100,13 +101,199 @@ class ProgressBar {
   std::chrono::steady_clock::time_point m_last{};
 };
 
+/// log.csv: one row per frame, flushed as it is written.
+class FrameLog {
+ public:
+  FrameLog(const std::string& path, bool enabled) : m_path(path) {
+    if (!enabled) return;
+    m_file = std::fopen(path.c_str(), "w");
+    if (!m_file) stop(exit_runtime_error, "cannot write '" + path + "'");
+    std::fputs("frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,spring_energy,"
+               "gravity_energy,total_energy,max_strain,solver_iterations,max_residual\n", m_file);
+  }
+  ~FrameLog() {
+    if (m_file) std::fclose(m_file);
+  }
+  FrameLog(const FrameLog&) = delete;
+  FrameLog& operator=(const FrameLog&) = delete;
+
+  void write(int frame, const drape::Clothd& cloth, const drape::Stated& state, double wall, int steps, double dropped,
+             double factor, long long iterations, double residual) {
+    if (!m_file) return;
+    const double ek = drape::kinetic_energy(cloth, state);
+    const double es = drape::spring_potential_energy(cloth, state.positions);
+    const double eg = drape::gravitational_potential_energy(cloth, state.positions);
+    if (std::fprintf(m_file, "%d,%.9g,%.6f,%d,%.9g,%.6g,%.9g,%.9g,%.9g,%.9g,%.6g,%lld,%.3g\n", frame, state.time, wall,
+                     steps, dropped, factor, ek, es, eg, ek + es + eg, drape::max_strain(cloth, state.positions),
+                     iterations, residual) < 0 ||
+        std::fflush(m_file) != 0)
+      throw drape::FileWriteError("cannot write '" + m_path + "'");
+  }
+
+ private:
+  std::string m_path;
+  std::FILE* m_file = nullptr;
+};
+
+/// The steps between two frames, as the log reports them.
+struct FrameSteps {
+  int steps = 0;
+  double dropped = 0;
+  long long iterations = 0;
+  double residual = 0;
+};
+
+/// A run: the simulation, the renderer and the outputs, and the two ways of stepping through time.
+class Run {
+ public:
+  Run(const Settings& s, const drape::Clothd& cloth, drape::Stated start)
+      : m_s(s),
+        m_cloth(cloth),
+        m_integrator(drape::make_integrator(cloth, s.integrator, s.stepping)),
+        m_state(std::move(start)),
+        m_context(s.output.debug_gl ? drape::viewer::GlDebugSink(drape::viewer::print_gl_debug_message)
+                                    : drape::viewer::GlDebugSink{}),
+        m_renderer(cloth.grid().nx(), cloth.grid().ny(), cloth.grid().triangles(), render_settings(s, cloth)),
+        m_fixed_camera(drape::viewer::frame_bounds(drape::viewer::hanging_bounds(cloth, m_state.positions), aspect(s),
+                                                   float(s.output.azimuth), float(s.output.elevation))),
+        m_follow(aspect(s), float(s.output.azimuth), float(s.output.elevation), m_fixed_camera.floor_height),
+        m_triangles(cloth.grid().triangles()),
+        m_log(s.output.out + "/log.csv", !s.output.no_csv),
+        m_progress(!s.output.quiet && ::isatty(STDERR_FILENO)),
+        m_t0(m_state.time),
+        m_previous_sim(m_t0) {
+    m_renderer.set_camera(m_fixed_camera);
+  }
+
+  /// Frames 0 .. n-1 at t0 + k frame_time, rounded to whole steps: rendering speed does not matter.
+  void offline() {
+    const drape::render::TimeLine& t = m_s.time;
+    const int total = t.duration_given ? std::max(1, static_cast<int>(std::ceil(t.duration / t.frame_time - 1e-9)) + 1)
+                                       : t.frames;
+    m_total_frames = total;
+    draw(m_state.positions, {});
+    for (int k = 1; k < total; ++k) {
+      const long long target = std::llround(double(k) * t.frame_time / m_s.stepping.dt);
+      FrameSteps done;
+      while (m_steps_total < target) step(done);
+      draw(m_state.positions, done);
+    }
+    m_progress.finish();
+  }
+
+  /// The driver grants whole steps for the wall time each frame took; frames are drawn between the
+  /// last two states at the driver's interpolation fraction.
+  void realtime() {
+    const drape::render::TimeLine& t = m_s.time;
+    m_total_frames = t.frames;
+    draw(m_state.positions, {});
+    drape::RealtimeDriver<> driver(m_integrator->dt(), m_s.realtime);
+    drape::Matrix3X<double> previous = m_state.positions, between;
+    driver.start();
+    while (t.duration_given ? m_state.time - m_t0 < t.duration : m_frame < t.frames) {
+      const drape::RealtimeFrame f = driver.next_frame();
+      FrameSteps done;
+      done.dropped = f.dropped;
+      for (int k = 0; k < f.steps; ++k) {
+        if (k == f.steps - 1) previous = m_state.positions;
+        step(done);
+      }
+      between = previous + f.interpolation * (m_state.positions - previous);
+      draw(between, done);
+    }
+    m_progress.finish();
+  }
+
+  const drape::Stated& state() const { return m_state; }
+  int frames_written() const { return m_frame; }
+  long long steps() const { return m_steps_total; }
+  double wall_seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_wall_start).count();
+  }
+
+ private:
+  static float aspect(const Settings& s) { return float(s.output.width) / float(s.output.height); }
+  static drape::viewer::RenderSettings render_settings(const Settings& s, const drape::Clothd& cloth) {
+    drape::viewer::RenderSettings rs;
+    rs.width = s.output.width;
+    rs.height = s.output.height;
+    rs.samples = s.output.samples;
+    rs.floor = !s.output.no_floor;
+    rs.floor_cell = float(std::max(cloth.grid().nx() - 1, cloth.grid().ny() - 1) * cloth.grid().spacing() / 8.0);
+    return rs;
+  }
+
+  /// One step; a failed one ends the run (exit code 3), keeping the frames written.
+  void step(FrameSteps& done) {
+    const drape::StepStatus status = m_integrator->step(m_state);
+    if (!status) {
+      m_progress.finish();
+      stop(exit_simulation_failed,
+           "the simulation failed while computing frame " + std::to_string(m_frame) + " (t = " + seconds(m_state.time) +
+               " s, after " + std::to_string(m_steps_total) + " steps): " + drape::to_string(status.error) + ". The " +
+               std::to_string(m_frame) + " frames before it are kept in '" + m_s.output.out + "'.");
+    }
+    ++m_steps_total;
+    ++done.steps;
+    done.iterations += status.iterations;
+    done.residual = std::max(done.residual, status.residual);
+  }
+
+  static std::string seconds(double t) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", t);
+    return text;
+  }
+
+  /// Renders `positions` as the next frame, writes its files and its log row.
+  void draw(const drape::Matrix3X<double>& positions, const FrameSteps& done) {
+    if (m_s.output.camera == drape::render::CameraMode::Follow)
+      m_renderer.set_camera(m_follow.update(positions, m_state.time - m_previous_sim));
+    m_renderer.update_positions(positions);
+    drape::viewer::write_png(frame_name(m_s.output.out, m_frame, "png"), m_renderer.render());
+    if (m_s.output.obj) drape::write_obj(frame_name(m_s.output.out, m_frame, "obj"), positions, m_triangles);
+    const double wall = wall_seconds();
+    const double factor = wall > m_previous_wall ? (m_state.time - m_previous_sim) / (wall - m_previous_wall) : 0.0;
+    m_log.write(m_frame, m_cloth, m_state, wall, done.steps, done.dropped, factor, done.iterations, done.residual);
+    m_previous_wall = wall;
+    m_previous_sim = m_state.time;
+    ++m_frame;
+    const double simulated = m_state.time - m_t0;
+    const double overall = wall > 0 ? simulated / wall : 0.0;
+    const double progress = m_s.time.duration_given && m_s.time.realtime ? simulated / m_s.time.duration
+                                                                         : double(m_frame) / m_total_frames;
+    const double eta = progress > 0 ? wall * (1 - progress) / progress : 0.0;
+    m_progress.update(std::min(progress, 1.0), m_frame, m_state.time, overall, eta);
+  }
+
+  const Settings& m_s;
+  const drape::Clothd& m_cloth;
+  std::unique_ptr<drape::Integrator<double>> m_integrator;
+  drape::Stated m_state;
+  drape::viewer::OffscreenContext m_context;
+  drape::viewer::ClothRenderer m_renderer;
+  /// Frames the box the cloth can hang in; its floor height stays for the follow camera too.
+  drape::viewer::Camera m_fixed_camera;
+  drape::viewer::FollowCamera m_follow;
+  std::vector<std::array<int, 3>> m_triangles;
+  FrameLog m_log;
+  ProgressBar m_progress;
+  const double m_t0;
+  const std::chrono::steady_clock::time_point m_wall_start = std::chrono::steady_clock::now();
+  double m_previous_sim;  // simulated time of the previous frame
+  double m_previous_wall = 0;
+  int m_frame = 0;
+  int m_total_frames = 1;
+  long long m_steps_total = 0;
+};
+
 /// Runs ffmpeg on the frames; true on success.
 bool make_video(const Settings& s, int frames_written) {
-  const std::string ext = s.video.substr(s.video.rfind('.'));
+  const std::string ext = s.output.video.substr(s.output.video.rfind('.'));
   char fps[32];
-  std::snprintf(fps, sizeof fps, "%.6g", 1.0 / s.frame_time);
+  std::snprintf(fps, sizeof fps, "%.6g", 1.0 / s.time.frame_time);
   std::vector<std::string> args = {"ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", fps,
-                                   "-i", s.out + "/frame_%05d.png", "-frames:v", std::to_string(frames_written)};
+                                   "-i", s.output.out + "/frame_%05d.png", "-frames:v", std::to_string(frames_written)};
   if (ext == ".gif") {
     args.insert(args.end(), {"-vf", "split[a][b];[a]palettegen[p];[b][p]paletteuse"});
   } else if (ext == ".webm") {
@@ -114,7 +301,7 @@ bool make_video(const Settings& s, int frames_written) {
   } else {  // .mp4 .mkv; yuv420p needs even sizes
     args.insert(args.end(), {"-c:v", "libx264", "-pix_fmt", "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2"});
   }
-  args.push_back(s.video);
+  args.push_back(s.output.video);
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -126,175 +313,34 @@ bool make_video(const Settings& s, int frames_written) {
 }
 
 int run(const Settings& s) {
-  namespace fs = std::filesystem;
-  const drape::Clothd cloth(make_spec(s));
-  const int n = cloth.node_count();
-
+  const drape::Clothd cloth(s.cloth);
   // Inputs and outputs are checked before any simulation or rendering.
-  drape::Stated state = cloth.initial_state();
+  drape::Stated start = cloth.initial_state();
   if (!s.load_state.empty()) {
     try {
-      state = drape::load_state<double>(s.load_state, n);
+      start = drape::load_state<double>(s.load_state, cloth.node_count());
     } catch (const drape::StateFormatError& e) {
-      std::fprintf(stderr, "drape-render: error: --load-state: %s\n", e.what());
-      return exit_bad_settings;
+      stop(exit_bad_settings, std::string("--load-state: ") + e.what());
     }
   }
-  std::error_code ec;
-  fs::create_directories(s.out, ec);
-  if (ec || !fs::is_directory(s.out)) {
-    std::fprintf(stderr, "drape-render: error: cannot create output folder '%s': %s\n", s.out.c_str(),
-                 ec ? ec.message().c_str() : "a file of that name exists");
-    return exit_runtime_error;
-  }
-  try {  // a probe file: read-only folders and full disks fail here, not after the first frame
-    const std::string probe = s.out + "/.drape-render-probe";
-    drape::write_file_atomically(probe, [](std::FILE* f) { return std::fputs("probe\n", f) >= 0; });
-    fs::remove(probe, ec);
-  } catch (const drape::FileWriteError& e) {
-    std::fprintf(stderr, "drape-render: error: output folder '%s' is not writable: %s\n", s.out.c_str(), e.what());
-    return exit_runtime_error;
-  }
+  prepare_output_folder(s.output.out);
 
-  Stepper step = make_stepper(s, cloth);
-  drape::viewer::OffscreenContext context(s.debug_gl ? drape::viewer::GlDebugSink(drape::viewer::print_gl_debug_message)
-                                                     : drape::viewer::GlDebugSink{});
-  drape::viewer::RenderSettings rs;
-  rs.width = s.width;
-  rs.height = s.height;
-  rs.samples = s.samples;
-  rs.floor = !s.no_floor;
-  rs.floor_cell = float(std::max(s.nx - 1, s.ny - 1) * s.spacing / 8.0);
-  drape::viewer::ClothRenderer renderer(s.nx, s.ny, cloth.grid().triangles(), rs);
-  const float aspect = float(s.width) / float(s.height);
-  const drape::viewer::Bounds hanging = drape::viewer::hanging_bounds(cloth, state.positions);
-  renderer.set_camera(drape::viewer::frame_bounds(hanging, aspect, float(s.azimuth), float(s.elevation)));
-  const float floor_y = renderer.camera().floor_height;
-  drape::viewer::FollowCamera follow(aspect, float(s.azimuth), float(s.elevation), floor_y);
-  const auto triangles = cloth.grid().triangles();
+  Run run(s, cloth, std::move(start));
+  if (s.time.realtime)
+    run.realtime();
+  else
+    run.offline();
 
-  std::FILE* csv = nullptr;
-  const std::string csv_path = s.out + "/log.csv";
-  if (!s.no_csv) {
-    csv = std::fopen(csv_path.c_str(), "w");
-    if (!csv) {
-      std::fprintf(stderr, "drape-render: error: cannot write '%s'\n", csv_path.c_str());
-      return exit_runtime_error;
-    }
-    std::fputs("frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,spring_energy,"
-               "gravity_energy,total_energy,max_strain,solver_iterations,max_residual\n", csv);
-  }
-  struct CsvCloser {
-    std::FILE*& f;
-    ~CsvCloser() {
-      if (f) std::fclose(f);
-    }
-  } closer{csv};
-
-  const double t0 = state.time;
-  const bool duration_mode = s.duration_given;
-  const int total_frames = duration_mode && !s.realtime
-                               ? std::max(1, static_cast<int>(std::ceil(s.duration / s.frame_time - 1e-9)) + 1)
-                               : s.frames;
-  ProgressBar progress(!s.quiet && ::isatty(STDERR_FILENO));
-  const auto wall_start = std::chrono::steady_clock::now();
-  const auto wall_seconds = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  };
-
-  // Per-frame bookkeeping shared by both modes.
-  int frame = 0;
-  long long steps_total = 0;
-  double previous_wall = 0, previous_sim = t0;
-  const auto emit_frame = [&](const drape::Matrix3X<double>& draw, int steps, double dropped, long long iterations,
-                              double residual) {
-    if (s.camera == "follow") renderer.set_camera(follow.update(draw, cloth.pins().nodes(), state.time - previous_sim));
-    renderer.update_positions(draw);
-    drape::viewer::write_png(frame_name(s.out, frame, "png"), renderer.render());
-    if (s.obj) drape::write_obj(frame_name(s.out, frame, "obj"), draw, triangles);
-    const double wall = wall_seconds();
-    const double factor = wall > previous_wall ? (state.time - previous_sim) / (wall - previous_wall) : 0.0;
-    if (csv) {
-      const double ek = drape::kinetic_energy(cloth, state);
-      const double es = drape::spring_potential_energy(cloth, state.positions);
-      const double eg = drape::gravitational_potential_energy(cloth, state.positions);
-      if (std::fprintf(csv, "%d,%.9g,%.6f,%d,%.9g,%.6g,%.9g,%.9g,%.9g,%.9g,%.6g,%lld,%.3g\n", frame, state.time, wall,
-                       steps, dropped, factor, ek, es, eg, ek + es + eg, drape::max_strain(cloth, state.positions),
-                       iterations, residual) < 0 ||
-          std::fflush(csv) != 0)
-        throw drape::FileWriteError("cannot write '" + csv_path + "'");
-    }
-    previous_wall = wall;
-    previous_sim = state.time;
-    ++frame;
-    const double simulated = state.time - t0;
-    const double overall = wall > 0 ? simulated / wall : 0.0;
-    const double done = duration_mode && s.realtime ? simulated / s.duration : double(frame) / total_frames;
-    const double eta = done > 0 ? wall * (1 - done) / done : 0.0;
-    progress.update(std::min(done, 1.0), frame, state.time, overall, eta);
-  };
-  const auto fail = [&](const drape::StepStatus& status) {
-    progress.finish();
-    std::fprintf(stderr,
-                 "drape-render: error: the simulation failed while computing frame %d (t = %.6g s, after %lld "
-                 "steps): %s. The %d frames before it are kept in '%s'.\n",
-                 frame, state.time, steps_total, drape::to_string(status.error), frame, s.out.c_str());
-    return exit_simulation_failed;
-  };
-
-  emit_frame(state.positions, 0, 0.0, 0, 0.0);  // frame 0: the starting state
-  if (!s.realtime) {
-    // Offline: frame k shows t0 + k * frame_time, rounded to whole steps of dt.
-    for (int k = 1; k < total_frames; ++k) {
-      const long long target = std::llround(double(k) * s.frame_time / s.dt);
-      int steps = 0;
-      long long iterations = 0;
-      double residual = 0;
-      while (steps_total < target) {
-        const drape::StepStatus status = step(state, s.dt);
-        if (!status) return fail(status);
-        ++steps_total;
-        ++steps;
-        iterations += status.iterations;
-        residual = std::max(residual, status.residual);
-      }
-      emit_frame(state.positions, steps, 0.0, iterations, residual);
-    }
-  } else {
-    // Real time: the driver grants whole steps for the wall time each frame took; frames are
-    // drawn between the last two states at the driver's interpolation fraction.
-    drape::RealtimeDriver<> driver(s.dt, s.realtime_factor, s.max_steps_per_frame);
-    drape::Matrix3X<double> previous = state.positions, draw;
-    driver.start();
-    while (duration_mode ? state.time - t0 < s.duration : frame < s.frames) {
-      const drape::RealtimeFrame f = driver.next_frame();
-      long long iterations = 0;
-      double residual = 0;
-      for (int k = 0; k < f.steps; ++k) {
-        if (k == f.steps - 1) previous = state.positions;
-        const drape::StepStatus status = step(state, s.dt);
-        if (!status) return fail(status);
-        ++steps_total;
-        iterations += status.iterations;
-        residual = std::max(residual, status.residual);
-      }
-      draw = previous + f.interpolation * (state.positions - previous);
-      emit_frame(draw, f.steps, f.dropped, iterations, residual);
-    }
-  }
-  progress.finish();
-
-  if (!s.save_state.empty()) drape::save_state(s.save_state, state);
-  const double wall = wall_seconds();
-  if (!s.video.empty() && !make_video(s, frame)) {
-    std::fprintf(stderr, "drape-render: error: ffmpeg could not make '%s' from the frames in '%s'\n", s.video.c_str(),
-                 s.out.c_str());
-    return exit_runtime_error;
-  }
-  if (!s.quiet)
+  if (!s.output.save_state.empty()) drape::save_state(s.output.save_state, run.state());
+  const double wall = run.wall_seconds();
+  if (!s.output.video.empty() && !make_video(s, run.frames_written()))
+    stop(exit_runtime_error,
+         "ffmpeg could not make '" + s.output.video + "' from the frames in '" + s.output.out + "'");
+  if (!s.output.quiet)
     std::fprintf(stderr, "drape-render: %d frames in '%s', t = %.4g s simulated in %.3g s (%lld steps, %s, %s)%s\n",
-                 frame, s.out.c_str(), state.time, wall, steps_total, s.integrator.c_str(),
-                 s.realtime ? "real time" : "offline", s.video.empty() ? "" : (", video " + s.video).c_str());
+                 run.frames_written(), s.output.out.c_str(), run.state().time, wall, run.steps(),
+                 drape::to_string(s.integrator), s.time.realtime ? "real time" : "offline",
+                 s.output.video.empty() ? "" : (", video " + s.output.video).c_str());
   return 0;
 }
 
@@ -311,6 +357,8 @@ int main(int argc, char** argv) {
   }
   try {
     return run(settings);
+  } catch (const Stop& s) {
+    return s.exit_code;
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "drape-render: error: %s\n", e.what());
     return exit_bad_settings;

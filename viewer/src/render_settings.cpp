@@ -15,7 +15,6 @@
 // drape-render offers every solver by name, including the opt-in direct ones.
 #include "drape/solvers/enable_ldlt.hpp"
 #include "drape/solvers/enable_lu.hpp"
-#include "drape/integrators/implicit_euler.hpp"
 
 namespace drape::render {
 
@@ -32,27 +31,65 @@ std::string number(double v) {
   throw SettingsError(flag + " = " + value + " is invalid; allowed: " + allowed);
 }
 
-void require_positive(const char* flag, double v) {
-  if (!(std::isfinite(v) && v > 0)) fail(flag, number(v), "finite and > 0");
-}
-void require_nonnegative(const char* flag, double v) {
-  if (!(std::isfinite(v) && v >= 0)) fail(flag, number(v), "finite and >= 0");
-}
 void require_range(const char* flag, long long v, long long lo, long long hi) {
   if (v < lo || v > hi) fail(flag, std::to_string(v), "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
 }
-void require_one_of(const char* flag, const std::string& v, const std::vector<std::string>& allowed) {
-  if (std::find(allowed.begin(), allowed.end(), v) == allowed.end()) {
-    std::string list;
-    for (const auto& a : allowed) list += (list.empty() ? "" : " | ") + a;
-    fail(flag, "'" + v + "'", list);
+
+/// The flag of each library parameter (InvalidParameter::parameter()), for error messages.
+const std::map<std::string, std::string>& flag_of_parameter() {
+  static const std::map<std::string, std::string> flags = {
+      {"nx", "--nx"},
+      {"ny", "--ny"},
+      {"nx * ny", "--nx x --ny"},
+      {"spacing", "--spacing"},
+      {"node_mass", "--mass"},
+      {"gravity", "--gravity"},
+      {"structural.stiffness", "--structural-ks"},
+      {"structural.damping", "--structural-kd"},
+      {"shear.stiffness", "--shear-ks"},
+      {"shear.damping", "--shear-kd"},
+      {"bend.stiffness", "--bend-ks"},
+      {"bend.damping", "--bend-kd"},
+      {"pinned node", "--pins"},
+      {"boundary_condition", "--boundary"},
+      {"dt", "--dt"},
+      {"threads", "--threads"},
+      {"tolerance", "--tolerance"},
+      {"max_iterations", "--max-iterations"},
+      {"integrator", "--integrator"},
+      {"jacobian", "--jacobian"},
+      {"solver", "--solver"},
+      {"preconditioner", "--preconditioner"},
+      {"pin_treatment", "--pin-treatment"},
+      {"realtime_factor", "--realtime-factor"},
+      {"max_steps_per_frame", "--max-steps-per-frame"},
+      {"camera", "--camera"},
+  };
+  return flags;
+}
+
+/// Runs a library check; its InvalidParameter becomes a SettingsError naming the flag.
+template <class Check>
+void checked(Check&& check) {
+  try {
+    check();
+  } catch (const InvalidParameter& e) {
+    const auto it = flag_of_parameter().find(e.parameter());
+    if (it == flag_of_parameter().end()) throw SettingsError(e.what());
+    fail(it->second, e.value(), e.allowed());
   }
 }
 
-std::string joined(const std::vector<std::string>& v, const char* sep = " | ") {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
-  return s;
+/// The library's parse of an option name; its error names the flag and lists the names.
+template <class Enum>
+Enum parse_option(const std::string& text) {
+  Enum value{};
+  if (!drape::try_parse(text, value)) {
+    const auto it = flag_of_parameter().find(drape::EnumNames<Enum>::parameter);
+    fail(it == flag_of_parameter().end() ? std::string(drape::EnumNames<Enum>::parameter) : it->second, "'" + text + "'",
+         drape::joined_names<Enum>(" | "));
+  }
+  return value;
 }
 
 // ---- scene-file values -------------------------------------------------------------------------
@@ -87,16 +124,64 @@ T from_toml(const toml::node& n, const std::string& key, const std::string& file
   }
 }
 
-/// Every setting: the CLI11 option and how to apply its scene-file value.
+/// Every setting: its CLI11 option and how to apply its scene-file value.
 struct Binding {
   CLI::Option* option;
   std::function<void(const toml::node&, const std::string& file)> apply;
 };
 
-}  // namespace
+/// The flags and scene-file keys, bound to the fields of a Settings.
+class Bindings {
+ public:
+  Bindings(CLI::App& app, std::map<std::string, Binding>& keys) : m_app(app), m_keys(keys) {}
 
-std::vector<std::string> available_integrators() { return {"rk2", "implicit"}; }
-std::vector<std::string> available_solver_names() { return drape::available_solvers(); }
+  /// A number, string or switch, stored as is.
+  template <class T>
+  CLI::Option* value(const std::string& key, T& field, const std::string& help, const char* group) {
+    CLI::Option* opt;
+    if constexpr (std::is_same_v<T, bool>)
+      opt = m_app.add_flag("--" + key, field, help);
+    else
+      opt = m_app.add_option("--" + key, field, help);
+    opt->group(group);
+    m_keys[key] = {opt, [&field, key](const toml::node& n, const std::string& file) { field = from_toml<T>(n, key, file); }};
+    return opt;
+  }
+
+  /// An option enum, by the library's names (core/enum_names.hpp).
+  template <class Enum>
+  CLI::Option* name(const std::string& key, Enum& field, const std::string& help, const char* group) {
+    const std::string flag = "--" + key;
+    CLI::Option* opt = m_app.add_option_function<std::string>(
+        flag, [&field](const std::string& text) { field = parse_option<Enum>(text); }, help);
+    opt->default_str(drape::to_string(field))->group(group);
+    m_keys[key] = {opt, [&field, key](const toml::node& n, const std::string& file) {
+                     field = parse_option<Enum>(from_toml<std::string>(n, key, file));
+                   }};
+    return opt;
+  }
+
+  /// A value converted by `set` (which also checks it).
+  template <class T, class Set>
+  CLI::Option* converted(const std::string& key, const std::string& default_text, Set set, const std::string& help,
+                         const char* group) {
+    CLI::Option* opt = m_app.add_option_function<T>("--" + key, set, help);
+    opt->default_str(default_text)->group(group);
+    m_keys[key] = {opt, [set, key](const toml::node& n, const std::string& file) { set(from_toml<T>(n, key, file)); }};
+    return opt;
+  }
+
+ private:
+  CLI::App& m_app;
+  std::map<std::string, Binding>& m_keys;
+};
+
+void set_boundary(Settings& s, int number) {
+  require_range("--boundary", number, 1, 2);
+  s.cloth.boundary = static_cast<drape::BoundaryCondition>(number);
+}
+
+}  // namespace
 
 std::string find_on_path(const std::string& program) {
   const char* path = std::getenv("PATH");
@@ -110,75 +195,41 @@ std::string find_on_path(const std::string& program) {
   return "";
 }
 
-drape::ImplicitOptions implicit_options(const Settings& s) {
-  drape::ImplicitOptions o;
-  o.jacobian = s.jacobian == "exact" ? JacobianVariant::Exact
-               : s.jacobian == "symmetric" ? JacobianVariant::Symmetric : JacobianVariant::Spd;
-  o.solver = s.solver;
-  o.preconditioner = s.preconditioner == "block-jacobi" ? Preconditioner::BlockJacobi : Preconditioner::Multigrid;
-  o.tolerance = s.tolerance;
-  o.max_iterations = s.max_iterations;
-  o.threads = s.threads;
-  o.pins = s.pin_treatment == "filter" ? PinTreatment::Filter : PinTreatment::Eliminate;
-  return o;
-}
-
 void validate(const Settings& s) {
-  require_one_of("--integrator", s.integrator, available_integrators());
-  require_one_of("--jacobian", s.jacobian, {"exact", "symmetric", "spd"});
-  require_one_of("--solver", s.solver, drape::available_solvers());
-  if (!(s.tolerance > 0 && s.tolerance < 1)) fail("--tolerance", number(s.tolerance), "(0, 1)");
-  require_range("--max-iterations", s.max_iterations, 1, 100'000'000);
-  require_one_of("--pin-treatment", s.pin_treatment, {"eliminate", "filter"});
-  require_one_of("--preconditioner", s.preconditioner, {"multigrid", "block-jacobi"});
-  require_range("--nx", s.nx, 2, 10000);
-  require_range("--ny", s.ny, 2, 10000);
-  if (static_cast<long long>(s.nx) * s.ny > 16'000'000LL)
-    fail("--nx x --ny", std::to_string(static_cast<long long>(s.nx) * s.ny), "<= 16000000 nodes");
-  require_positive("--spacing", s.spacing);
-  require_positive("--mass", s.mass);
-  require_nonnegative("--gravity", s.gravity);
-  require_nonnegative("--structural-ks", s.structural_ks);
-  require_nonnegative("--structural-kd", s.structural_kd);
-  require_nonnegative("--shear-ks", s.shear_ks);
-  require_nonnegative("--shear-kd", s.shear_kd);
-  require_nonnegative("--bend-ks", s.bend_ks);
-  require_nonnegative("--bend-kd", s.bend_kd);
-  require_range("--boundary", s.boundary, 1, 2);
-  for (int p : s.pins) require_range("--pins", p, 0, static_cast<long long>(s.nx) * s.ny - 1);
-  require_range("--threads", s.threads, 0, 1024);
-  require_positive("--frame-time", s.frame_time);
-  if (s.frame_time > 10) fail("--frame-time", number(s.frame_time), "(0, 10] s");
-  require_positive("--dt", s.dt);
-  if (s.dt > s.frame_time)
-    fail("--dt", number(s.dt), "finite, > 0 and <= --frame-time (" + number(s.frame_time) + " s)");
-  require_range("--frames", s.frames, 1, 10'000'000);
-  require_nonnegative("--duration", s.duration);
-  if (s.frames_given && s.duration_given) throw SettingsError("--frames and --duration exclude each other; give one");
-  if (s.duration_given && s.duration == 0) fail("--duration", "0", "finite and > 0");
-  require_positive("--realtime-factor", s.realtime_factor);
-  if (s.realtime_factor > 1000) fail("--realtime-factor", number(s.realtime_factor), "(0, 1000]");
-  require_range("--max-steps-per-frame", s.max_steps_per_frame, 1, 100'000'000);
-  require_range("--width", s.width, 16, 8192);
-  require_range("--height", s.height, 16, 8192);
-  require_range("--samples", s.samples, 1, 16);
-  require_one_of("--camera", s.camera, {"follow", "fixed"});
-  if (!std::isfinite(s.azimuth)) fail("--azimuth", number(s.azimuth), "finite degrees");
-  if (!(s.elevation >= -85 && s.elevation <= 85)) fail("--elevation", number(s.elevation), "[-85, 85] degrees");
-  if (s.out.empty()) fail("--out", "''", "a folder path");
-  if (!s.video.empty()) {
-    const std::string ext = s.video.size() >= 4 ? s.video.substr(s.video.rfind('.') == std::string::npos ? 0 : s.video.rfind('.')) : "";
-    require_one_of("--video (extension)", ext, {".mp4", ".gif", ".webm", ".mkv"});
+  // The library's settings, by the library's rules.
+  checked([&] { s.cloth.validate(); });
+  checked([&] {
+    if (s.integrator == drape::IntegratorKind::Implicit)
+      s.stepping.validate();
+    else
+      s.stepping.IntegratorOptions::validate();
+  });
+  checked([&] { s.realtime.validate(); });
+  // The viewer's own.
+  const TimeLine& t = s.time;
+  if (!(std::isfinite(t.frame_time) && t.frame_time > 0 && t.frame_time <= 10))
+    fail("--frame-time", number(t.frame_time), "(0, 10] s");
+  if (s.stepping.dt > t.frame_time)
+    fail("--dt", number(s.stepping.dt), "finite, > 0 and <= --frame-time (" + number(t.frame_time) + " s)");
+  require_range("--frames", t.frames, 1, 10'000'000);
+  if (!(std::isfinite(t.duration) && t.duration >= 0)) fail("--duration", number(t.duration), "finite and >= 0");
+  if (t.frames_given && t.duration_given) throw SettingsError("--frames and --duration exclude each other; give one");
+  if (t.duration_given && t.duration == 0) fail("--duration", "0", "finite and > 0");
+  const Output& o = s.output;
+  require_range("--width", o.width, 16, 8192);
+  require_range("--height", o.height, 16, 8192);
+  require_range("--samples", o.samples, 1, 16);
+  if (!std::isfinite(o.azimuth)) fail("--azimuth", number(o.azimuth), "finite degrees");
+  if (!(o.elevation >= -85 && o.elevation <= 85)) fail("--elevation", number(o.elevation), "[-85, 85] degrees");
+  if (o.out.empty()) fail("--out", "''", "a folder path");
+  if (!o.video.empty()) {
+    const std::size_t dot = o.video.rfind('.');
+    const std::string ext = dot == std::string::npos ? "" : o.video.substr(dot);
+    const std::vector<std::string> allowed = {".mp4", ".gif", ".webm", ".mkv"};
+    if (std::find(allowed.begin(), allowed.end(), ext) == allowed.end())
+      fail("--video (extension)", "'" + ext + "'", ".mp4 | .gif | .webm | .mkv");
     if (find_on_path("ffmpeg").empty())
       throw SettingsError("--video needs ffmpeg on PATH, which is not installed (apt-get install ffmpeg)");
-  }
-  if (s.integrator == "implicit") {
-    // Combinations (e.g. the Exact Jacobian with a symmetric-only solver) are the library's rules.
-    try {
-      implicit_options(s).validate();
-    } catch (const std::invalid_argument& e) {
-      throw SettingsError(std::string("--jacobian/--solver/--pin-treatment: ") + e.what());
-    }
   }
 }
 
@@ -189,69 +240,69 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   app.option_defaults()->always_capture_default();
   app.get_formatter()->column_width(34);
   std::map<std::string, Binding> keys;
-
-  const auto bind = [&](const std::string& key, auto& field, const std::string& help, const char* group) -> CLI::Option* {
-    using T = std::remove_reference_t<decltype(field)>;
-    CLI::Option* opt;
-    if constexpr (std::is_same_v<T, bool>)
-      opt = app.add_flag("--" + key, field, help);
-    else
-      opt = app.add_option("--" + key, field, help);
-    opt->group(group);
-    keys[key] = {opt, [&field, key](const toml::node& n, const std::string& file) { field = from_toml<T>(n, key, file); }};
-    return opt;
-  };
+  Bindings bind(app, keys);
+  drape::ClothSpecd& c = s.cloth;
+  drape::ImplicitOptions& i = s.stepping;
 
   app.add_option("--scene", s.scene, "TOML scene file; its keys are the flag names without '--'")->group("Scene");
   const char* sim = "Simulation";
-  bind("integrator", s.integrator, "rk2 (explicit midpoint) | implicit (linearised implicit Euler)", sim);
-  bind("jacobian", s.jacobian, "implicit: exact | symmetric | spd", sim);
-  bind("solver", s.solver, "implicit: linear solver, one of " + joined(drape::available_solvers()), sim);
-  bind("tolerance", s.tolerance, "implicit: relative residual of iterative solvers, (0, 1)", sim);
-  bind("max-iterations", s.max_iterations, "implicit: iteration cap of iterative solvers, >= 1", sim);
-  bind("pin-treatment", s.pin_treatment, "implicit: eliminate | filter (pinned DOFs)", sim);
-  bind("preconditioner", s.preconditioner, "implicit, cg: multigrid | block-jacobi", sim);
-  bind("dt", s.dt, "time step in s, > 0 and <= --frame-time", sim);
-  bind("structural-ks", s.structural_ks, "structural stiffness in N/m, >= 0", sim);
-  bind("structural-kd", s.structural_kd, "structural damping in N s/m, >= 0", sim);
-  bind("shear-ks", s.shear_ks, "shear stiffness in N/m, >= 0", sim);
-  bind("shear-kd", s.shear_kd, "shear damping in N s/m, >= 0", sim);
-  bind("bend-ks", s.bend_ks, "bend stiffness in N/m, >= 0", sim);
-  bind("bend-kd", s.bend_kd, "bend damping in N s/m, >= 0", sim);
-  bind("boundary", s.boundary, "1: corner (0,0) pinned; 2: corners (0,0) and (nx-1,0) pinned", sim);
-  CLI::Option* pins = bind("pins", s.pins, "pinned node ids (id = j*nx + i), replaces --boundary (scene file: pins = [] pins nothing)", sim);
+  bind.name("integrator", s.integrator, "rk2 (explicit midpoint) | implicit (linearised implicit Euler)", sim);
+  bind.name("jacobian", i.jacobian, "implicit: " + drape::joined_names<drape::JacobianVariant>(" | "), sim);
+  std::string solvers;
+  for (drape::LinearSolverKind k : drape::available_solvers()) solvers += (solvers.empty() ? "" : " | ") + std::string(drape::to_string(k));
+  bind.name("solver", i.solver, "implicit: linear solver, one of " + solvers, sim);
+  bind.value("tolerance", i.tolerance, "implicit: relative residual of iterative solvers, (0, 1)", sim);
+  bind.value("max-iterations", i.max_iterations, "implicit: iteration cap of iterative solvers, >= 1", sim);
+  bind.name("pin-treatment", i.pin_treatment, "implicit: " + drape::joined_names<drape::PinTreatment>(" | ") + " (pinned DOFs)", sim);
+  bind.name("preconditioner", i.preconditioner, "implicit, cg: " + drape::joined_names<drape::PreconditionerKind>(" | "), sim);
+  bind.value("dt", i.dt, "time step in s, > 0 and <= --frame-time", sim);
+  bind.value("structural-ks", c.springs.structural.stiffness, "structural stiffness in N/m, >= 0", sim);
+  bind.value("structural-kd", c.springs.structural.damping, "structural damping in N s/m, >= 0", sim);
+  bind.value("shear-ks", c.springs.shear.stiffness, "shear stiffness in N/m, >= 0", sim);
+  bind.value("shear-kd", c.springs.shear.damping, "shear damping in N s/m, >= 0", sim);
+  bind.value("bend-ks", c.springs.bend.stiffness, "bend stiffness in N/m, >= 0", sim);
+  bind.value("bend-kd", c.springs.bend.damping, "bend damping in N s/m, >= 0", sim);
+  bind.converted<int>(
+      "boundary", std::to_string(static_cast<int>(c.boundary)), [&s](int number) { set_boundary(s, number); },
+      "1: corner (0,0) pinned; 2: corners (0,0) and (nx-1,0) pinned", sim);
+  CLI::Option* pins = bind.converted<std::vector<int>>(
+      "pins", "", [&c](const std::vector<int>& nodes) { c.pinned_nodes = nodes; },
+      "pinned node ids (id = j*nx + i), replaces --boundary (scene file: pins = [] pins nothing)", sim);
   pins->expected(1, 1 << 30);
-  bind("nx", s.nx, "nodes along x, [2, 10000]", sim);
-  bind("ny", s.ny, "nodes along z, [2, 10000]", sim);
-  bind("spacing", s.spacing, "rest distance between neighbours in m, > 0", sim);
-  bind("mass", s.mass, "mass of every node in kg, > 0", sim);
-  bind("gravity", s.gravity, "gravitational acceleration in m/s^2 (along -y), >= 0", sim);
-  bind("threads", s.threads, "threads for the simulation, 0 = all cores", sim);
-  bind("load-state", s.load_state, "start from a state saved with --save-state", sim);
+  bind.value("nx", c.nx, "nodes along x, [2, 10000]", sim);
+  bind.value("ny", c.ny, "nodes along z, [2, 10000]", sim);
+  bind.value("spacing", c.spacing, "rest distance between neighbours in m, > 0", sim);
+  bind.value("mass", c.node_mass, "mass of every node in kg, > 0", sim);
+  bind.value("gravity", c.gravity, "gravitational acceleration in m/s^2 (along -y), >= 0", sim);
+  bind.value("threads", i.threads, "threads for the simulation, 0 = all cores", sim);
+  bind.value("load-state", s.load_state, "start from a state saved with --save-state", sim);
 
   const char* time = "Time line";
-  CLI::Option* frames = bind("frames", s.frames, "frames to render, [1, 10000000]", time);
-  CLI::Option* duration = bind("duration", s.duration, "simulated seconds to render instead of --frames, > 0 (unset: use --frames)", time);
-  bind("frame-time", s.frame_time, "simulated seconds per frame, (0, 10]", time);
-  bind("realtime", s.realtime, "pace the simulation against the wall clock (frames render as fast as they can)", time);
-  bind("realtime-factor", s.realtime_factor, "realtime: simulated seconds per wall-clock second, (0, 1000]", time);
-  bind("max-steps-per-frame", s.max_steps_per_frame, "realtime: cap on steps per frame; time beyond it is dropped", time);
+  CLI::Option* frames = bind.value("frames", s.time.frames, "frames to render, [1, 10000000]", time);
+  CLI::Option* duration =
+      bind.value("duration", s.time.duration, "simulated seconds to render instead of --frames, > 0 (unset: use --frames)", time);
+  bind.value("frame-time", s.time.frame_time, "simulated seconds per frame, (0, 10]", time);
+  bind.value("realtime", s.time.realtime, "pace the simulation against the wall clock (frames render as fast as they can)", time);
+  bind.value("realtime-factor", s.realtime.realtime_factor, "realtime: simulated seconds per wall-clock second, > 0", time);
+  bind.value("max-steps-per-frame", s.realtime.max_steps_per_frame,
+             "realtime: cap on steps per frame, [1, 100000000]; time beyond it is dropped", time);
 
   const char* output = "Output";
-  bind("out", s.out, "output folder for frame_NNNNN.png, log.csv (created if missing)", output);
-  bind("width", s.width, "image width in pixels, [16, 8192]", output);
-  bind("height", s.height, "image height in pixels, [16, 8192]", output);
-  bind("samples", s.samples, "multisample anti-aliasing samples, [1, 16]", output);
-  bind("camera", s.camera, "follow: frame the cloth every frame (smoothed); fixed: frame where it can hang, once", output);
-  bind("azimuth", s.azimuth, "camera azimuth in degrees (0 = from +z, 90 = from +x)", output);
-  bind("elevation", s.elevation, "camera elevation in degrees, [-85, 85] (< 0: from below)", output);
-  bind("no-floor", s.no_floor, "do not draw the floor and the cloth's shadow", output);
-  bind("obj", s.obj, "also write frame_NNNNN.obj (the mesh) for every frame", output);
-  bind("no-csv", s.no_csv, "do not write the per-frame log.csv", output);
-  bind("save-state", s.save_state, "save the final state (positions, velocities, time) to this file", output);
-  bind("video", s.video, "assemble the frames into a video (.mp4 .gif .webm .mkv) with ffmpeg", output);
-  bind("debug-gl", s.debug_gl, "report OpenGL errors and warnings (KHR_debug)", output);
-  bind("quiet", s.quiet, "no progress bar and no summary line", output);
+  Output& o = s.output;
+  bind.value("out", o.out, "output folder for frame_NNNNN.png, log.csv (created if missing)", output);
+  bind.value("width", o.width, "image width in pixels, [16, 8192]", output);
+  bind.value("height", o.height, "image height in pixels, [16, 8192]", output);
+  bind.value("samples", o.samples, "multisample anti-aliasing samples, [1, 16]", output);
+  bind.name("camera", o.camera, "follow: frame the cloth every frame (smoothed); fixed: frame where it can hang, once", output);
+  bind.value("azimuth", o.azimuth, "camera azimuth in degrees (0 = from +z, 90 = from +x)", output);
+  bind.value("elevation", o.elevation, "camera elevation in degrees, [-85, 85] (< 0: from below)", output);
+  bind.value("no-floor", o.no_floor, "do not draw the floor and the cloth's shadow", output);
+  bind.value("obj", o.obj, "also write frame_NNNNN.obj (the mesh) for every frame", output);
+  bind.value("no-csv", o.no_csv, "do not write the per-frame log.csv", output);
+  bind.value("save-state", o.save_state, "save the final state (positions, velocities, time) to this file", output);
+  bind.value("video", o.video, "assemble the frames into a video (.mp4 .gif .webm .mkv) with ffmpeg", output);
+  bind.value("debug-gl", o.debug_gl, "report OpenGL errors and warnings (KHR_debug)", output);
+  bind.value("quiet", o.quiet, "no progress bar and no summary line", output);
 
   try {
     app.parse(argc, argv);
@@ -259,9 +310,8 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
     exit_code = app.exit(e);
     return false;
   }
-  s.frames_given = frames->count() > 0;
-  s.duration_given = duration->count() > 0;
-  s.pins_given = pins->count() > 0;
+  s.time.frames_given = frames->count() > 0;
+  s.time.duration_given = duration->count() > 0;
 
   if (!s.scene.empty()) {
     toml::table table;
@@ -289,9 +339,8 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
           (key == "pins" && keys["boundary"].option->count() > 0))
         continue;
       it->second.apply(node, s.scene);
-      if (key == "frames") s.frames_given = true;
-      if (key == "duration") s.duration_given = true;
-      if (key == "pins") s.pins_given = true;
+      if (key == "frames") s.time.frames_given = true;
+      if (key == "duration") s.time.duration_given = true;
     }
   }
   validate(s);

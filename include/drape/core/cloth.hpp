@@ -1,11 +1,14 @@
 #pragma once
 /// \file cloth.hpp
-/// `ClothSpec`: the scene description with the brief's defaults. `Cloth`: the model built from it
-/// (grid, springs, pins, gravity), shared read-only by assemblers and integrators.
+/// `ClothSpec`: the scene description, with documented defaults. `Cloth`: the model built from it
+/// (grid, springs, pins, gravity and any further force terms), shared read-only by the assemblers
+/// and integrators. The time step belongs to the integrator (integrators/integrator.hpp).
 
+#include <memory>
 #include <optional>
 #include <vector>
 
+#include "drape/core/force_term.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/pins.hpp"
 #include "drape/core/spring_set.hpp"
@@ -13,8 +16,8 @@
 
 namespace drape {
 
-/// Everything that defines a scene. Defaults are the brief's cloth (33 x 33 nodes, 0.1 m apart,
-/// 0.03 kg each, g = 10 m/s^2) with the spring constants and time step chosen in
+/// Everything that defines a scene. Defaults: the course model's cloth (33 x 33 nodes, 0.1 m apart,
+/// 0.03 kg each, g = 10 m/s^2, two corners pinned) with the spring constants chosen in
 /// docs/parameters.md.
 template <class Scalar = double>
 struct ClothSpec {
@@ -27,41 +30,51 @@ struct ClothSpec {
   BoundaryCondition boundary = BoundaryCondition::TwoCorners;
   /// If set, these node ids are pinned instead of the `boundary` preset.
   std::optional<std::vector<int>> pinned_nodes;
-  Scalar dt = default_dt();  ///< s
+  /// Forces besides springs and gravity (core/force_term.hpp); none by default.
+  std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms;
 
   static constexpr SpringCoefficients<Scalar> default_springs() {
     return {{Scalar(20000), Scalar(10)}, {Scalar(5000), Scalar(5)}, {Scalar(500), Scalar(1)}};
   }
-  static constexpr Scalar default_dt() { return Scalar(0.0005); }
 
-  /// \throws std::invalid_argument naming the first invalid parameter.
+  /// \throws InvalidParameter naming the first invalid parameter.
   void validate() const {
-    detail::require_at_least("nx", nx, 2);
-    detail::require_at_least("ny", ny, 2);
-    detail::require_positive_finite("spacing", spacing);
-    detail::require_positive_finite("node_mass", node_mass);
+    Grid<Scalar>::validate(nx, ny, spacing, node_mass);
     detail::require_nonnegative_finite("gravity", gravity);
-    detail::require_positive_finite("dt", dt);
     springs.validate();
+    if (pinned_nodes)
+      Pins::validate(*pinned_nodes, nx * ny);
+    else
+      Pins::validate(boundary);
+    for (const auto& term : force_terms)
+      if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
   }
 };
 
 template <class Scalar = double>
 class Cloth {
  public:
-  /// \throws std::invalid_argument naming the first invalid parameter of `spec`.
+  /// \throws InvalidParameter naming the first invalid parameter of `spec`.
   explicit Cloth(const ClothSpec<Scalar>& spec)
       : m_grid((spec.validate(), Grid<Scalar>(spec.nx, spec.ny, spec.spacing, spec.node_mass))),
         m_springs(m_grid, spec.springs),
         m_pins(spec.pinned_nodes ? Pins(*spec.pinned_nodes, m_grid.node_count()) : Pins::preset(spec.boundary, m_grid)),
-        m_gravity(Scalar(0), -spec.gravity, Scalar(0)) {}
+        m_gravity(Scalar(0), -spec.gravity, Scalar(0)),
+        m_force_terms(spec.force_terms) {}
 
-  Cloth(Grid<Scalar> grid, SpringSet<Scalar> springs, Pins pins, const Vec3<Scalar>& gravity)
-      : m_grid(std::move(grid)), m_springs(std::move(springs)), m_pins(std::move(pins)), m_gravity(gravity) {
+  Cloth(Grid<Scalar> grid, SpringSet<Scalar> springs, Pins pins, const Vec3<Scalar>& gravity,
+        std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms = {})
+      : m_grid(std::move(grid)),
+        m_springs(std::move(springs)),
+        m_pins(std::move(pins)),
+        m_gravity(gravity),
+        m_force_terms(std::move(force_terms)) {
     if (m_pins.mask().size() != static_cast<std::size_t>(m_grid.node_count()))
       detail::fail_argument("pins", "a pin set for " + detail::to_text(m_pins.mask().size()) + " nodes",
                             "a pin set built for this grid's " + detail::to_text(m_grid.node_count()) + " nodes");
     if (!m_gravity.allFinite()) detail::fail_argument("gravity", "non-finite vector", "finite");
+    for (const auto& term : m_force_terms)
+      if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
   }
 
   const Grid<Scalar>& grid() const { return m_grid; }
@@ -69,9 +82,11 @@ class Cloth {
   const Pins& pins() const { return m_pins; }
   /// Gravitational acceleration vector (m/s^2).
   const Vec3<Scalar>& gravity() const { return m_gravity; }
+  /// Forces besides springs and gravity, in the order they are added.
+  const std::vector<std::shared_ptr<const ForceTerm<Scalar>>>& force_terms() const { return m_force_terms; }
   int node_count() const { return m_grid.node_count(); }
 
-  /// The brief's start: undeformed, flat, horizontal, at rest, t = 0.
+  /// The model's start: undeformed, flat, horizontal, at rest, t = 0.
   State<Scalar> initial_state() const {
     State<Scalar> s;
     s.positions = m_grid.rest_positions();
@@ -84,6 +99,7 @@ class Cloth {
   SpringSet<Scalar> m_springs;
   Pins m_pins;
   Vec3<Scalar> m_gravity;
+  std::vector<std::shared_ptr<const ForceTerm<Scalar>>> m_force_terms;
 };
 
 }  // namespace drape

@@ -7,6 +7,7 @@
 /// \f$ x_{(i,j)} = (i h, 0, j h) \f$ with spacing \f$h\f$.
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "drape/core/types.hpp"
@@ -23,8 +24,17 @@ struct GridCoord {
 template <class Scalar = double>
 class Grid {
  public:
-  /// \throws std::invalid_argument if nx or ny < 2, or spacing / node_mass are not finite and > 0.
+  /// Largest grid: node ids and DOF indices are `int`, and this keeps a cloth's memory in the
+  /// gigabytes (the largest size measured is 257 x 257, docs/benchmarks.md).
+  static constexpr int max_nodes_per_side = 10000;
+  static constexpr long long max_nodes = 16'000'000;
+
+  /// \throws InvalidParameter unless nx and ny are in [2, max_nodes_per_side], nx * ny <=
+  /// max_nodes, and spacing and node_mass are finite and > 0.
   Grid(int nx, int ny, Scalar spacing, Scalar node_mass);
+
+  /// The checks of the constructor, without building anything. \throws InvalidParameter.
+  static void validate(int nx, int ny, Scalar spacing, Scalar node_mass);
 
   int nx() const { return m_nx; }
   int ny() const { return m_ny; }
@@ -55,14 +65,20 @@ class Grid {
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-Grid<Scalar>::Grid(int nx, int ny, Scalar spacing, Scalar node_mass) : m_nx(nx), m_ny(ny), m_spacing(spacing) {
-  detail::require_at_least("nx", nx, 2);
-  detail::require_at_least("ny", ny, 2);
-  // nx * ny * 3 must fit an int (node ids and DOF indices are int).
-  if (static_cast<long long>(nx) * ny > 200'000'000LL)
-    detail::fail_argument("nx * ny", detail::to_text(static_cast<long long>(nx) * ny), "<= 200000000");
+void Grid<Scalar>::validate(int nx, int ny, Scalar spacing, Scalar node_mass) {
+  const long long nodes = static_cast<long long>(nx) * ny;
+  if (nodes > max_nodes) detail::fail_argument("nx * ny", detail::to_text(nodes), "<= " + detail::to_text(max_nodes));
+  const std::string side = "[2, " + detail::to_text(max_nodes_per_side) + "]: >= 2 and <= " +
+                           detail::to_text(max_nodes_per_side) + " nodes per side";
+  if (nx < 2 || nx > max_nodes_per_side) detail::fail_argument("nx", detail::to_text(nx), side);
+  if (ny < 2 || ny > max_nodes_per_side) detail::fail_argument("ny", detail::to_text(ny), side);
   detail::require_positive_finite("spacing", spacing);
   detail::require_positive_finite("node_mass", node_mass);
+}
+
+template <class Scalar>
+Grid<Scalar>::Grid(int nx, int ny, Scalar spacing, Scalar node_mass) : m_nx(nx), m_ny(ny), m_spacing(spacing) {
+  validate(nx, ny, spacing, node_mass);
   m_masses = VectorX<Scalar>::Constant(node_count(), node_mass);
 }
 

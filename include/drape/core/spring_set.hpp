@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "drape/core/enum_names.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/validation.hpp"
 
@@ -22,14 +23,12 @@ enum class SpringCategory : std::uint8_t {
 };
 inline constexpr int spring_category_count = 3;
 
-inline const char* to_string(SpringCategory c) {
-  switch (c) {
-    case SpringCategory::Structural: return "structural";
-    case SpringCategory::Shear: return "shear";
-    case SpringCategory::Bend: return "bend";
-  }
-  return "unknown";
-}
+template <>
+struct EnumNames<SpringCategory> {
+  static constexpr const char* parameter = "spring category";
+  static constexpr std::array<EnumName<SpringCategory>, 3> values{
+      {{SpringCategory::Structural, "structural"}, {SpringCategory::Shear, "shear"}, {SpringCategory::Bend, "bend"}}};
+};
 
 /// Stiffness ks (N/m) and damping kd (N s/m) of one spring category.
 template <class Scalar = double>
@@ -48,7 +47,7 @@ struct SpringCoefficients {
   const SpringParams<Scalar>& operator[](SpringCategory c) const {
     return c == SpringCategory::Structural ? structural : c == SpringCategory::Shear ? shear : bend;
   }
-  /// \throws std::invalid_argument naming e.g. `shear.stiffness` if a value is negative or not finite.
+  /// \throws InvalidParameter naming e.g. `shear.stiffness` if a value is negative or not finite.
   void validate() const {
     detail::require_nonnegative_finite("structural.stiffness", structural.stiffness);
     detail::require_nonnegative_finite("structural.damping", structural.damping);
@@ -63,7 +62,7 @@ template <class Scalar = double>
 class SpringSet {
  public:
   /// Structural, shear and bend springs of `grid`; rest lengths from the undeformed grid.
-  /// \throws std::invalid_argument if a coefficient is negative or not finite.
+  /// \throws InvalidParameter if a coefficient is negative or not finite.
   SpringSet(const Grid<Scalar>& grid, const SpringCoefficients<Scalar>& coefficients);
 
   int size() const { return static_cast<int>(m_a.size()); }

@@ -1,12 +1,15 @@
 #pragma once
 /// \file implicit_euler.hpp
-/// Linearised implicit (backward) Euler, Baraff & Witkin 1998, the brief's part (b):
+/// Linearised implicit (backward) Euler (Baraff & Witkin 1998, "Large steps in cloth simulation"):
 /// \f[ \Bigl(M - \Delta t \frac{\partial f}{\partial v} - \Delta t^2 \frac{\partial f}{\partial x}\Bigr) \Delta v
 ///     = \Delta t \Bigl(f(x_t, v_t) + \Delta t \frac{\partial f}{\partial x} v_t\Bigr), \qquad
 ///     v_{t+1} = v_t + \Delta v, \quad x_{t+1} = x_t + \Delta t\, v_{t+1}. \f]
-/// Pinned nodes keep \f$ \Delta v = 0 \f$ (eliminated from the system or filtered, see
-/// PinTreatment). The Jacobian variant and the linear solver are chosen at run time
-/// (ImplicitOptions); docs/implicit.md has the derivation and the measurements behind the defaults.
+/// Pinned nodes keep \f$ \Delta v = 0 \f$ (eliminated from the system or fixed by its constraints,
+/// see PinTreatment). The path of a step: JacobianAssembler fills a LinearSystem (matrix, edge
+/// operator, lattice layout, constraints, b), the linear solver solves it, the step commits.
+/// The Jacobian variant and the linear solver are chosen at run time (ImplicitOptions), or the
+/// caller hands over a solver object; docs/implicit.md has the derivation and the measurements
+/// behind the defaults.
 ///
 /// A step that fails (solver failure, matrix not positive definite, no convergence, non-finite
 /// result) returns the reason and leaves the state unchanged. After the first step, `step()`
@@ -19,7 +22,7 @@
 
 #include "drape/core/cloth.hpp"
 #include "drape/core/validation.hpp"
-#include "drape/integrators/step_status.hpp"
+#include "drape/integrators/integrator.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
 #include "drape/physics/spring_jacobian.hpp"
@@ -27,52 +30,73 @@
 
 namespace drape {
 
-struct ImplicitOptions {
+/// The implicit integrator's settings: the time step and threads of every integrator, plus its own.
+struct ImplicitOptions : IntegratorOptions {
   /// Spd: symmetric positive definite system for any deformation; measured the fastest and the
   /// most robust (docs/implicit.md, "Default Jacobian").
   JacobianVariant jacobian = JacobianVariant::Spd;
-  /// Linear solver by name, see available_solvers() and solvers/solver_registry.hpp; cg was the
-  /// fastest at every size measured at dt <= 1/60; direct solvers win only for very large dt
-  /// (docs/implicit.md, "Default solver").
-  std::string solver = "cg";
-  /// Preconditioner of cg (the other solvers ignore it; bicgstab always uses block Jacobi).
-  /// Multigrid needs ~10 iterations where block Jacobi needs 120-190 at dt = 1/60
-  /// (docs/implicit.md, "Multigrid preconditioner").
-  Preconditioner preconditioner = Preconditioner::Multigrid;
-  double tolerance = 1e-6;     ///< relative residual |b - A dv| / |b| for iterative solvers
-  int max_iterations = 2000;   ///< iteration cap of iterative solvers
-  int threads = 0;             ///< 0 = all available
-  PinTreatment pins = PinTreatment::Eliminate;
-  /// 1 = the brief's single linearised step. More = Newton iterations on the nonlinear backward
-  /// Euler equations \f$ M \Delta v = \Delta t\, f(x + \Delta t (v + \Delta v), v + \Delta v) \f$,
+  /// cg was the fastest at every size measured at dt <= 1/60; direct solvers win only for very
+  /// large dt (docs/implicit.md, "Default solver"). See solvers/solver_kind.hpp.
+  LinearSolverKind solver = LinearSolverKind::Cg;
+  /// Preconditioner of cg (bicgstab always uses block Jacobi; direct solvers none). Multigrid
+  /// needs ~10 iterations where block Jacobi needs 120-190 at dt = 1/60 (docs/implicit.md,
+  /// "Multigrid preconditioner").
+  PreconditionerKind preconditioner = PreconditionerKind::Multigrid;
+  double tolerance = 1e-6;    ///< relative residual |S(b - A dv)| / |S b| of iterative solvers
+  int max_iterations = 2000;  ///< iteration cap of iterative solvers
+  PinTreatment pin_treatment = PinTreatment::Eliminate;
+  /// 1 = the single linearised step of Baraff & Witkin. More = Newton iterations on the nonlinear
+  /// backward Euler equations \f$ M \Delta v = \Delta t\, f(x + \Delta t (v + \Delta v), v + \Delta v) \f$,
   /// starting from the linearised step; stops early when the residual is below
   /// `newton_tolerance` times \f$ |\Delta t\, f(x_t, v_t)| \f$.
   int newton_iterations = 1;
   double newton_tolerance = 1e-6;
 
-  /// \throws std::invalid_argument naming the first invalid option (unknown solver, a solver this
-  /// build lacks, tolerance not in (0, 1), max_iterations < 1, threads < 0, Exact Jacobian with a
-  /// symmetric-only solver, filtered pins with a direct solver).
+  /// The iterative solvers' share of these options.
+  IterativeSettings iterative_settings() const { return {tolerance, max_iterations, threads, preconditioner}; }
+
+  /// \throws InvalidParameter naming the first invalid option: dt, threads, tolerance,
+  /// max_iterations, newton settings, a solver this program lacks, or a solver that does not fit
+  /// the Jacobian variant or pin treatment (see require_solver_fits()).
   void validate() const;
+  /// validate() without the `solver` field (for a solver object the caller supplies).
+  void validate_except_solver() const;
 };
 
-template <class Scalar = double>
-class ImplicitEuler {
- public:
-  /// \throws std::invalid_argument as ImplicitOptions::validate().
-  explicit ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options = {});
+/// \throws InvalidParameter if a solver with `capabilities` (named `name` in the message) cannot
+/// solve the systems of `jacobian` (Exact needs a non-symmetric solver) with `pins` (Filter needs
+/// one that honours constraints).
+inline void require_solver_fits(const std::string& name, const SolverCapabilities& capabilities,
+                                JacobianVariant jacobian, PinTreatment pins) {
+  if (jacobian == JacobianVariant::Exact && capabilities.symmetric_only)
+    detail::fail_argument("solver", "'" + name + "' with jacobian = exact",
+                          "a non-symmetric solver for the Exact Jacobian: bicgstab, lu or umfpack");
+  if (pins == PinTreatment::Filter && !capabilities.supports_constraints)
+    detail::fail_argument("pin_treatment", "filter with solver '" + name + "'",
+                          "eliminate the pins, or filter them with a solver that takes constraints (cg, bicgstab)");
+}
 
-  /// Advances `state` by `dt`; on failure `state` is unchanged and the status says why.
-  /// \throws std::invalid_argument if dt is not finite and > 0 or the state has the wrong size.
-  StepStatus step(State<Scalar>& state, Scalar dt);
+template <class Scalar = double>
+class ImplicitEuler final : public Integrator<Scalar> {
+ public:
+  /// \throws InvalidParameter as ImplicitOptions::validate().
+  explicit ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options = {});
+  /// With a linear solver the caller made (`options.solver` is ignored).
+  /// \throws InvalidParameter as ImplicitOptions::validate_except_solver(), if `solver` is null, or
+  /// if its capabilities() do not fit the options (require_solver_fits()).
+  ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options, std::unique_ptr<LinearSolver<Scalar>> solver);
+  /// The integrator keeps a reference to the cloth: a temporary would dangle.
+  ImplicitEuler(const Cloth<Scalar>&& cloth, const ImplicitOptions& options = {}) = delete;
+  ImplicitEuler(const Cloth<Scalar>&& cloth, const ImplicitOptions& options, std::unique_ptr<LinearSolver<Scalar>>) = delete;
+
+  StepStatus step(State<Scalar>& state) override;
 
   const ImplicitOptions& options() const { return m_options; }
-  const Cloth<Scalar>& cloth() const { return m_assembler.cloth(); }
   const JacobianAssembler<Scalar>& assembler() const { return m_assembler; }
-  /// The system of the last step: A, b and the solution dv (3 per system node, see
+  /// The system of the last step: A, b, the constraints (one block row per system node, see
   /// JacobianAssembler::node_of_row()).
-  const BlockSparseMatrix<Scalar>& system_matrix() const { return m_a; }
-  const VectorX<Scalar>& rhs() const { return m_rhs; }
+  const LinearSystem<Scalar>& system() const { return m_system; }
+  /// The last step's solution dv (3 per system node).
   const VectorX<Scalar>& dv() const { return m_dv; }
   /// Newton iterations of the last step (1 without newton_iterations > 1) and its final
   /// relative residual |M dv - dt f(x+, v+)| / |dt f(x, v)| (0 if not computed).
@@ -84,8 +108,8 @@ class ImplicitEuler {
   ImplicitOptions m_options;
   JacobianAssembler<Scalar> m_assembler;
   std::unique_ptr<LinearSolver<Scalar>> m_solver;
-  BlockSparseMatrix<Scalar> m_a;
-  VectorX<Scalar> m_rhs, m_dv;
+  LinearSystem<Scalar> m_system;
+  VectorX<Scalar> m_dv;
   Matrix3X<Scalar> m_x_new, m_v_new;
   // Newton iterations only
   ForceAssembler<Scalar> m_forces;
@@ -94,53 +118,65 @@ class ImplicitEuler {
   int m_newton_done = 0;
   double m_newton_residual = 0;
 
+  /// Checks the solver against the options and sets up the system (both constructors).
+  void set_up();
   /// x+ = x + dt (v + dv), v+ = v + dv into m_x_new, m_v_new (pinned nodes fixed).
   void advance(const State<Scalar>& state, Scalar dt);
-  /// g = M dv - dt f(m_x_new, m_v_new) on the system rows; returns |g|.
-  double nonlinear_residual(Scalar dt);
+  /// g = S(M dv - dt f(m_x_new, m_v_new)) on the system rows at `time`; returns |g|.
+  double nonlinear_residual(Scalar time, Scalar dt);
 };
 
 // ---------------------------------------------------------------------------------------------
 
-inline void ImplicitOptions::validate() const {
-  detail::require_available_solver(solver);
-  if (!(std::isfinite(tolerance) && tolerance > 0 && tolerance < 1))
-    detail::fail_argument("tolerance", detail::to_text(tolerance), "finite, > 0 and < 1");
-  detail::require_at_least("max_iterations", max_iterations, 1);
-  detail::require_at_least("threads", threads, 0);
+inline void ImplicitOptions::validate_except_solver() const {
+  IntegratorOptions::validate();
+  iterative_settings().validate();
   detail::require_at_least("newton_iterations", newton_iterations, 1);
   if (!(std::isfinite(newton_tolerance) && newton_tolerance > 0))
     detail::fail_argument("newton_tolerance", detail::to_text(newton_tolerance), "finite and > 0");
-  if (jacobian == JacobianVariant::Exact && solver_requires_symmetric(solver))
-    detail::fail_argument("solver", "'" + solver + "' with jacobian = exact",
-                          "a non-symmetric solver for the Exact Jacobian: bicgstab, lu or umfpack");
-  if (pins == PinTreatment::Filter && !solver_supports_filter(solver))
-    detail::fail_argument("pins", "filter with solver '" + solver + "'",
-                          "eliminate, or filter with an iterative solver (cg, bicgstab)");
+}
+
+inline void ImplicitOptions::validate() const {
+  validate_except_solver();
+  require_solver_available(solver);
+  require_solver_fits(to_string(solver), solver_info(solver).capabilities, jacobian, pin_treatment);
 }
 
 template <class Scalar>
 ImplicitEuler<Scalar>::ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options)
-    : m_options((options.validate(), options)),
-      m_assembler(cloth, options.pins, options.threads),
+    : Integrator<Scalar>(cloth, (options.validate(), options)),
+      m_options(options),
+      m_assembler(cloth, options.pin_treatment, options.threads),
+      m_solver(make_linear_solver<Scalar>(options.solver, options.iterative_settings())),
       m_forces(cloth, options.threads) {
-  IterativeSettings settings;
-  settings.tolerance = options.tolerance;
-  settings.max_iterations = options.max_iterations;
-  settings.threads = options.threads;
-  settings.preconditioner = options.preconditioner;
-  m_solver = make_linear_solver<Scalar>(options.solver, settings);
-  m_solver->set_grid_layout({cloth.grid().nx(), cloth.grid().ny(), m_assembler.row_of_node()});
-  m_a = m_assembler.make_matrix();
-  m_rhs.setZero(m_a.size());
-  m_dv.setZero(m_a.size());
-  m_x_new.resize(3, cloth.node_count());
-  m_v_new.resize(3, cloth.node_count());
-  m_solver->analyze(m_a);  // symbolic work once per cloth
-  if (options.newton_iterations > 1) {
-    m_f.resize(3, cloth.node_count());
-    m_g.setZero(m_a.size());
-    m_delta.setZero(m_a.size());
+  set_up();
+}
+
+template <class Scalar>
+ImplicitEuler<Scalar>::ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options,
+                                     std::unique_ptr<LinearSolver<Scalar>> solver)
+    : Integrator<Scalar>(cloth, (options.validate_except_solver(), options)),
+      m_options(options),
+      m_assembler(cloth, options.pin_treatment, options.threads),
+      m_solver(std::move(solver)),
+      m_forces(cloth, options.threads) {
+  if (!m_solver) detail::fail_argument("solver", "a null pointer", "a linear solver");
+  set_up();
+}
+
+template <class Scalar>
+void ImplicitEuler<Scalar>::set_up() {
+  require_solver_fits(m_solver->name(), m_solver->capabilities(), m_options.jacobian, m_options.pin_treatment);
+  const int n = this->cloth().node_count();
+  m_system = m_assembler.make_system();
+  m_dv.setZero(m_system.size());
+  m_x_new.resize(3, n);
+  m_v_new.resize(3, n);
+  m_solver->analyze(m_system);  // symbolic work once per cloth
+  if (m_options.newton_iterations > 1) {
+    m_f.resize(3, n);
+    m_g.setZero(m_system.size());
+    m_delta.setZero(m_system.size());
   }
 }
 
@@ -150,39 +186,37 @@ void ImplicitEuler<Scalar>::advance(const State<Scalar>& state, Scalar dt) {
   const std::vector<int>& node_of_row = m_assembler.node_of_row();
   for (std::size_t r = 0; r < node_of_row.size(); ++r)
     m_v_new.col(node_of_row[r]) += m_dv.template segment<3>(3 * static_cast<Index>(r));
-  for (int p : cloth().pins().nodes()) m_v_new.col(p).setZero();
+  const std::vector<int>& pins = this->cloth().pins().nodes();
+  for (int p : pins) m_v_new.col(p).setZero();
   m_x_new = state.positions + dt * m_v_new;
-  for (int p : cloth().pins().nodes()) m_x_new.col(p) = state.positions.col(p);
+  for (int p : pins) m_x_new.col(p) = state.positions.col(p);
 }
 
 template <class Scalar>
-double ImplicitEuler<Scalar>::nonlinear_residual(Scalar dt) {
-  m_forces.force(m_x_new, m_v_new, m_f);
+double ImplicitEuler<Scalar>::nonlinear_residual(Scalar time, Scalar dt) {
+  m_forces.force(m_x_new, m_v_new, time, m_f);
   const std::vector<int>& node_of_row = m_assembler.node_of_row();
-  const VectorX<Scalar>& masses = cloth().grid().masses();
+  const VectorX<Scalar>& masses = this->cloth().grid().masses();
   double g2 = 0;
   for (std::size_t r = 0; r < node_of_row.size(); ++r) {
     const int node = node_of_row[r];
     const Index i = 3 * static_cast<Index>(r);
     m_g.template segment<3>(i) = masses[node] * m_dv.template segment<3>(i) - dt * m_f.col(node);
-    if (m_assembler.filter()[r]) m_g.template segment<3>(i).setZero();
+    m_system.constraints.project_row(static_cast<int>(r), m_g.data() + i);
     g2 += double(m_g.template segment<3>(i).squaredNorm());
   }
   return std::sqrt(g2);
 }
 
 template <class Scalar>
-StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state, Scalar dt) {
-  detail::require_positive_finite("dt", dt);
-  const int n = cloth().node_count();
-  if (state.positions.cols() != n || state.velocities.cols() != n)
-    detail::fail_argument("state", detail::to_text(state.positions.cols()) + " nodes",
-                          detail::to_text(n) + " nodes (the cloth's)");
-  m_assembler.assemble_system(state.positions, state.velocities, dt, m_options.jacobian, m_a, m_rhs);
+StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state) {
+  this->require_state_fits(state);
+  const Scalar dt = this->dt();
+  m_assembler.assemble_system(state.positions, state.velocities, state.time, dt, m_options.jacobian, m_system);
   // m_dv still holds the previous step's solution: the warm start of iterative solvers.
-  const std::uint8_t* filter = m_options.pins == PinTreatment::Filter ? m_assembler.filter().data() : nullptr;
-  StepStatus status = m_solver->solve(m_a, m_rhs, m_dv, filter);
-  if (!status.ok() || !m_dv.allFinite()) {
+  const SolveStatus solved = m_solver->solve(m_system, m_dv);
+  StepStatus status{step_error(solved.error), solved.iterations, solved.residual};
+  if (!solved.ok() || !m_dv.allFinite()) {
     m_dv.setZero();  // a failed solve is no warm start
     if (status.ok()) status.error = StepError::NonFiniteState;
     return status;
@@ -193,29 +227,41 @@ StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state, Scalar dt) {
   m_newton_residual = 0;
   if (m_options.newton_iterations > 1) {
     // Newton on g(dv) = M dv - dt f(x + dt (v + dv), v + dv) = 0, whose Jacobian is the system
-    // matrix assembled at the current iterate. Scale: |dt f(x_t, v_t)|.
-    m_forces.force(state.positions, state.velocities, m_f);
+    // matrix assembled at the current iterate. Scale: |dt f(x_t, v_t)| on the unconstrained rows.
+    const Scalar end = state.time + dt;
+    m_forces.force(state.positions, state.velocities, state.time, m_f);
     double scale = 0;
-    for (std::size_t r = 0; r < m_assembler.node_of_row().size(); ++r)
-      if (!m_assembler.filter()[r]) scale += double(m_f.col(m_assembler.node_of_row()[r]).squaredNorm());
+    for (std::size_t r = 0; r < m_assembler.node_of_row().size(); ++r) {
+      const auto f = m_f.col(m_assembler.node_of_row()[r]);
+      switch (m_system.constraints.kind(static_cast<int>(r))) {
+        case ConstraintKind::Free: scale += double(f.squaredNorm()); break;
+        case ConstraintKind::Fixed: break;
+        case ConstraintKind::Projected: {
+          Vec3<Scalar> free = f;
+          m_system.constraints.project_row(static_cast<int>(r), free.data());
+          scale += double(free.squaredNorm());
+          break;
+        }
+      }
+    }
     scale = std::max(double(dt) * std::sqrt(scale), 1e-300);
-    double g = nonlinear_residual(dt);
+    double g = nonlinear_residual(end, dt);
     m_newton_residual = g / scale;
     while (m_newton_done < m_options.newton_iterations && m_newton_residual > m_options.newton_tolerance) {
-      m_assembler.assemble_system(m_x_new, m_v_new, dt, m_options.jacobian, m_a, m_rhs);
-      m_rhs = -m_g;
+      m_assembler.assemble_system(m_x_new, m_v_new, end, dt, m_options.jacobian, m_system);
+      m_system.rhs = -m_g;
       m_delta.setZero();
-      const StepStatus inner = m_solver->solve(m_a, m_rhs, m_delta, filter);
+      const SolveStatus inner = m_solver->solve(m_system, m_delta);
       if (!inner.ok() || !m_delta.allFinite()) {
         m_dv.setZero();
-        StepStatus failed = inner;
+        StepStatus failed{step_error(inner.error), inner.iterations, inner.residual};
         if (failed.ok()) failed.error = StepError::NonFiniteState;
         return failed;
       }
       status.iterations += inner.iterations;
       m_dv += m_delta;
       advance(state, dt);
-      g = nonlinear_residual(dt);
+      g = nonlinear_residual(end, dt);
       m_newton_residual = g / scale;
       ++m_newton_done;
     }

@@ -1,6 +1,6 @@
 #pragma once
 /// \file rk2.hpp
-/// Explicit midpoint rule (RK2), the brief's equation (3):
+/// Explicit midpoint rule (RK2):
 /// \f[ q_{t+1} = q_t + \Delta t\, F\!\left(q_t + \tfrac{\Delta t}{2} F(q_t)\right), \quad
 ///     q = (x, v), \quad F(q) = (v,\; M^{-1} f(x, v)). \f]
 /// Pinned nodes are reset to their position and zero velocity after each stage, so they never move.
@@ -8,7 +8,8 @@
 ///
 /// One step is one parallel region with four barriers: spring pass at q, node pass fused with the
 /// midpoint update, spring pass at the midpoint, node pass fused with the final update and the
-/// finiteness check (force_assembler.hpp). Bitwise identical for any thread count.
+/// finiteness check (force_assembler.hpp). Bitwise identical for any thread count. Force terms are
+/// evaluated at t and at the midpoint t + dt/2, on one thread (a fifth barrier, only with terms).
 
 #include <algorithm>
 #include <atomic>
@@ -16,21 +17,20 @@
 
 #include "drape/core/cloth.hpp"
 #include "drape/core/team.hpp"
-#include "drape/core/validation.hpp"
-#include "drape/integrators/step_status.hpp"
+#include "drape/integrators/integrator.hpp"
 #include "drape/physics/force_assembler.hpp"
 
 namespace drape {
 
 template <class Scalar = double>
-class Rk2 {
+class Rk2 final : public Integrator<Scalar> {
  public:
-  /// \param threads 0 = all available.
-  explicit Rk2(const Cloth<Scalar>& cloth, int threads = 0);
+  /// \throws InvalidParameter as IntegratorOptions::validate().
+  explicit Rk2(const Cloth<Scalar>& cloth, const IntegratorOptions& options = {});
+  /// The integrator keeps a reference to the cloth: a temporary would dangle.
+  Rk2(const Cloth<Scalar>&& cloth, const IntegratorOptions& options = {}) = delete;
 
-  /// Advances `state` by `dt`. On failure `state` is left unchanged.
-  /// \throws std::invalid_argument if dt is not finite and > 0 or the state has the wrong size.
-  StepStatus step(State<Scalar>& state, Scalar dt);
+  StepStatus step(State<Scalar>& state) override;
 
   const ForceAssembler<Scalar>& forces() const { return m_forces; }
 
@@ -41,25 +41,31 @@ class Rk2 {
   /// spring pass).
   std::vector<Scalar> m_midpoint;
   Matrix3X<Scalar> m_x_new, m_v_new;
+  /// The midpoint as 3 x n node data, for the force terms (empty without terms).
+  Matrix3X<Scalar> m_x_mid, m_v_mid;
 };
 
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-Rk2<Scalar>::Rk2(const Cloth<Scalar>& cloth, int threads)
-    : m_forces(cloth, threads),
+Rk2<Scalar>::Rk2(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
+    : Integrator<Scalar>(cloth, options),
+      m_forces(cloth, options.threads),
       m_inverse_mass(cloth.grid().masses().cwiseInverse()),
       m_midpoint(6 * std::size_t(cloth.node_count())),
       m_x_new(3, cloth.node_count()),
-      m_v_new(3, cloth.node_count()) {}
+      m_v_new(3, cloth.node_count()) {
+  if (m_forces.has_terms()) {
+    m_x_mid.resize(3, cloth.node_count());
+    m_v_mid.resize(3, cloth.node_count());
+  }
+}
 
 template <class Scalar>
-StepStatus Rk2<Scalar>::step(State<Scalar>& state, Scalar dt) {
-  detail::require_positive_finite("dt", dt);
+StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
+  this->require_state_fits(state);
+  const Scalar dt = this->dt();
   const Index n = m_inverse_mass.size();
-  if (state.positions.cols() != n || state.velocities.cols() != n)
-    detail::fail_argument("state", detail::to_text(state.positions.cols()) + " nodes",
-                          detail::to_text(n) + " nodes (the cloth's)");
   const Scalar half = Scalar(0.5) * dt;
   const Scalar* x = state.positions.data();
   const Scalar* v = state.velocities.data();
@@ -76,6 +82,8 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state, Scalar dt) {
                           std::lower_bound(pins.begin(), pins.end(), end));
   };
   std::atomic<bool> finite{true};
+  const bool terms = m_forces.has_terms();
+  m_forces.evaluate_terms(state.positions, state.velocities, state.time);
 
   run_in_team(m_forces.threads(), [&] {
     // Midpoint: q_mid = q + dt/2 F(q).
@@ -104,6 +112,16 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state, Scalar dt) {
       }
     });
     team_barrier();
+    if (terms) {
+      team_single([&] {
+        for (Index i = 0; i < n; ++i)
+          for (int k = 0; k < 3; ++k) {
+            m_x_mid(k, i) = x_mid[k][i];
+            m_v_mid(k, i) = v_mid[k][i];
+          }
+        m_forces.evaluate_terms(m_x_mid, m_v_mid, state.time + half);
+      });
+    }
     // Full step with the midpoint slope.
     m_forces.spring_pass(NodeView<Scalar, 1>{{x_mid[0], x_mid[1], x_mid[2]}},
                          NodeView<Scalar, 1>{{v_mid[0], v_mid[1], v_mid[2]}});

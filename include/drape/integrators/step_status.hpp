@@ -4,12 +4,14 @@
 
 #include <cstdint>
 
+#include "drape/solvers/solve_status.hpp"
+
 namespace drape {
 
 enum class StepError : std::uint8_t {
   None = 0,
   NonFiniteState,      ///< the new state would contain NaN or Inf (diverged, or a zero-length spring)
-  NotPositiveDefinite, ///< the direct solver found the system matrix not positive definite
+  NotPositiveDefinite, ///< the linear solver found the system matrix not positive definite
   NoConvergence,       ///< the iterative solver hit its iteration cap above tolerance
   SolverFailure,       ///< any other failure of the linear solver
 };
@@ -23,6 +25,18 @@ inline const char* to_string(StepError e) {
     case StepError::SolverFailure: return "linear solver failed";
   }
   return "unknown";
+}
+
+/// The step error a failed linear solve causes.
+inline StepError step_error(SolveError e) {
+  switch (e) {
+    case SolveError::None: return StepError::None;
+    case SolveError::NonFiniteResult: return StepError::NonFiniteState;
+    case SolveError::NotPositiveDefinite: return StepError::NotPositiveDefinite;
+    case SolveError::NoConvergence: return StepError::NoConvergence;
+    case SolveError::SolverFailure: return StepError::SolverFailure;
+  }
+  return StepError::SolverFailure;
 }
 
 struct StepStatus {

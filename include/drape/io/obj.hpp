@@ -14,10 +14,14 @@
 
 namespace drape {
 
-/// Writes vertices `x` (`3 x n`) and 0-based `triangles` as an OBJ file, atomically.
-/// \throws FileWriteError if the file cannot be written.
-template <class Scalar>
-void write_obj(const std::string& path, const Matrix3X<Scalar>& x, const std::vector<std::array<int, 3>>& triangles) {
+/// Writes vertices `x` (`3 x n`: a Matrix3X, a Map, any Eigen expression) and 0-based `triangles`
+/// as an OBJ file, atomically. \throws FileWriteError if the file cannot be written.
+template <class Derived>
+void write_obj(const std::string& path, const Eigen::MatrixBase<Derived>& x,
+               const std::vector<std::array<int, 3>>& triangles) {
+  using Scalar = typename Derived::Scalar;
+  static_assert(Derived::RowsAtCompileTime == 3 || Derived::RowsAtCompileTime == Eigen::Dynamic,
+                "write_obj: x must be 3 x n");
   write_file_atomically(path, [&](std::FILE* f) {
     const int digits = std::numeric_limits<Scalar>::max_digits10;
     if (std::fprintf(f, "# drape cloth: %d vertices, %d triangles\n", static_cast<int>(x.cols()),

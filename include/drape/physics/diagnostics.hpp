@@ -21,7 +21,7 @@ Scalar kinetic_energy(const Cloth<Scalar>& cloth, const State<Scalar>& state) {
 
 /// \f$ \sum_s \tfrac12 k_s (L_s - l_s)^2 \f$ (J).
 template <class Scalar>
-Scalar spring_potential_energy(const Cloth<Scalar>& cloth, const Matrix3X<Scalar>& x) {
+Scalar spring_potential_energy(const Cloth<Scalar>& cloth, const detail::non_deduced_t<ConstRef3X<Scalar>>& x) {
   const SpringSet<Scalar>& sp = cloth.springs();
   Scalar e = 0;
   for (int s = 0; s < sp.size(); ++s)
@@ -31,7 +31,7 @@ Scalar spring_potential_energy(const Cloth<Scalar>& cloth, const Matrix3X<Scalar
 
 /// \f$ -\sum_i m_i\, g \cdot x_i \f$ (J), zero at the rest height y = 0.
 template <class Scalar>
-Scalar gravitational_potential_energy(const Cloth<Scalar>& cloth, const Matrix3X<Scalar>& x) {
+Scalar gravitational_potential_energy(const Cloth<Scalar>& cloth, const detail::non_deduced_t<ConstRef3X<Scalar>>& x) {
   return -(cloth.gravity().transpose() * x * cloth.grid().masses()).value();
 }
 
@@ -43,7 +43,7 @@ Scalar total_energy(const Cloth<Scalar>& cloth, const State<Scalar>& state) {
 
 /// Largest relative stretch \f$ \max_s (L_s - l_s) / l_s \f$ (negative if every spring is compressed).
 template <class Scalar>
-Scalar max_strain(const Cloth<Scalar>& cloth, const Matrix3X<Scalar>& x) {
+Scalar max_strain(const Cloth<Scalar>& cloth, const detail::non_deduced_t<ConstRef3X<Scalar>>& x) {
   const SpringSet<Scalar>& sp = cloth.springs();
   Scalar worst = -std::numeric_limits<Scalar>::infinity();
   for (int s = 0; s < sp.size(); ++s) {
@@ -53,12 +53,12 @@ Scalar max_strain(const Cloth<Scalar>& cloth, const Matrix3X<Scalar>& x) {
   return worst;
 }
 
-/// Total force the pins exert on the cloth (N): minus the sum of spring and gravity forces on the
-/// pinned nodes. At static equilibrium it balances the cloth's weight.
+/// Total force the pins exert on the cloth (N): minus the sum of all forces (springs, gravity, force
+/// terms) on the pinned nodes. At static equilibrium it balances the cloth's weight.
 template <class Scalar>
 Vec3<Scalar> pin_reaction(const Cloth<Scalar>& cloth, const State<Scalar>& state) {
   Matrix3X<Scalar> f(3, cloth.node_count());
-  ForceAssembler<Scalar>(cloth, 1).force(state.positions, state.velocities, f);
+  ForceAssembler<Scalar>(cloth, 1).force(state.positions, state.velocities, state.time, f);
   Vec3<Scalar> r = Vec3<Scalar>::Zero();
   for (int p : cloth.pins().nodes()) r -= f.col(p);
   return r;
@@ -68,7 +68,7 @@ Vec3<Scalar> pin_reaction(const Cloth<Scalar>& cloth, const State<Scalar>& state
 template <class Scalar>
 Scalar max_free_force(const Cloth<Scalar>& cloth, const State<Scalar>& state) {
   Matrix3X<Scalar> f(3, cloth.node_count());
-  ForceAssembler<Scalar>(cloth, 1).force(state.positions, state.velocities, f);
+  ForceAssembler<Scalar>(cloth, 1).force(state.positions, state.velocities, state.time, f);
   Scalar worst = 0;
   for (int i = 0; i < cloth.node_count(); ++i)
     if (!cloth.pins().is_pinned(i)) worst = std::max(worst, f.col(i).norm());

@@ -1,6 +1,7 @@
 #pragma once
 /// \file force_assembler.hpp
-/// Total force on every node: the damped springs of equation (2) plus gravity \f$ m_i g \f$.
+/// Total force on every node: the damped springs (spring_kernel.hpp), gravity \f$ m_i g \f$ and
+/// the cloth's further force terms (core/force_term.hpp).
 ///
 /// Forces are computed for pinned nodes too (the negative of a pinned node's force is the reaction
 /// its pin exerts, see diagnostics.hpp); the integrators ignore them.
@@ -8,10 +9,12 @@
 /// Two phases with one barrier between them (spring_families.hpp explains the storage):
 /// 1. `spring_pass`: every spring's force on its first node, run by run, into per-family force
 ///    slots. A run's ends are contiguous in memory, so the loop vectorises (SSE2 by default).
-/// 2. `node_pass`: every node sums gravity and its springs' slots, in blocks of `block_nodes`
-///    nodes, in a fixed order: results are bitwise identical for any thread count.
-/// Both are public so that an integrator can fuse its own node updates into phase 2 and run a
-/// whole step in one parallel region (rk2.hpp).
+/// 2. `node_pass`: every node sums gravity, its springs' slots and the force terms' share, in
+///    blocks of `block_nodes` nodes, in a fixed order: results are bitwise identical for any
+///    thread count.
+/// Force terms are evaluated before phase 2 by `evaluate_terms` (one thread; nothing to do without
+/// terms). The phases are public so that an integrator can fuse its own node updates into phase 2
+/// and run a whole step in one parallel region (rk2.hpp).
 
 #include <algorithm>
 #include <vector>
@@ -20,7 +23,6 @@
 
 #include "drape/config.hpp"
 #include "drape/core/cloth.hpp"
-#include "drape/core/parallel.hpp"
 #include "drape/core/team.hpp"
 #include "drape/physics/spring_families.hpp"
 #include "drape/physics/spring_kernel.hpp"
@@ -34,10 +36,13 @@ struct NodeView {
   const Scalar* p[3];
 };
 
-/// Stride-3 view of a `Matrix3X`.
-template <class Scalar>
-NodeView<Scalar, 3> node_view(const Matrix3X<Scalar>& m) {
-  return {{m.data(), m.data() + 1, m.data() + 2}};
+/// Stride-3 view of contiguous `3 x n` node data (a Matrix3X, or a Ref3X / ConstRef3X to one).
+template <class Derived>
+NodeView<typename Derived::Scalar, 3> node_view(const Eigen::DenseBase<Derived>& m) {
+  static_assert(Derived::RowsAtCompileTime == 3 && Derived::OuterStrideAtCompileTime == 3,
+                "node_view needs contiguous 3 x n node data");
+  const typename Derived::Scalar* p = m.derived().data();
+  return {{p, p + 1, p + 2}};
 }
 
 /// Total forces of the nodes [begin, begin + count): component k of node begin + j is `f[k][j]`.
@@ -58,10 +63,12 @@ class ForceAssembler {
 
   /// \param threads 0 = all available (max_threads()).
   explicit ForceAssembler(const Cloth<Scalar>& cloth, int threads = 0);
+  /// The assembler keeps a reference to the cloth: a temporary would dangle.
+  ForceAssembler(const Cloth<Scalar>&& cloth, int threads = 0) = delete;
 
-  /// `f = spring forces(x, v) + M g`, `3 x n`; `f` must already have the right size.
-  /// Not for concurrent calls on the same object (it uses the object's scratch memory).
-  void force(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Matrix3X<Scalar>& f) const;
+  /// `f = spring forces(x, v) + M g + force terms(x, v, time)`, `3 x n`; `f` must already have the
+  /// right size. Not for concurrent calls on the same object (it uses the object's scratch memory).
+  void force(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time, Ref3X<Scalar> f) const;
 
   const Cloth<Scalar>& cloth() const { return *m_cloth; }
   int threads() const { return effective_threads(m_threads, m_cloth->springs().size(), min_springs_per_thread); }
@@ -71,6 +78,12 @@ class ForceAssembler {
   /// team_barrier() before node_pass).
   template <int Stride>
   void spring_pass(const NodeView<Scalar, Stride>& x, const NodeView<Scalar, Stride>& v) const;
+
+  /// True if the cloth has force terms besides springs and gravity.
+  bool has_terms() const { return !m_cloth->force_terms().empty(); }
+  /// The force terms' total at (x, v, time) for the next node_pass (call on one thread, before the
+  /// barrier that precedes node_pass). Does nothing without terms.
+  void evaluate_terms(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time) const;
 
   /// Phase 2 for this thread's share of the node blocks: calls `fn(const ForceBlock<Scalar>&)` with
   /// each block's total forces. No barrier at the end.
@@ -102,6 +115,8 @@ class ForceAssembler {
   /// Per family and component: the force of the spring whose first node is i at slot i, 0 where
   /// there is no spring (those slots are never written).
   mutable std::vector<Scalar> m_slots;
+  /// The force terms' total of the last evaluate_terms() (3 x n; empty without terms).
+  mutable Matrix3X<Scalar> m_term_forces;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -111,7 +126,17 @@ ForceAssembler<Scalar>::ForceAssembler(const Cloth<Scalar>& cloth, int threads)
     : m_cloth(&cloth),
       m_threads(threads),
       m_families(cloth.springs(), cloth.node_count()),
-      m_slots(std::size_t(m_families.family_count()) * 3 * std::size_t(m_families.slot_count()), Scalar(0)) {}
+      m_slots(std::size_t(m_families.family_count()) * 3 * std::size_t(m_families.slot_count()), Scalar(0)) {
+  if (has_terms()) m_term_forces.setZero(3, cloth.node_count());
+}
+
+template <class Scalar>
+void ForceAssembler<Scalar>::evaluate_terms(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v,
+                                            Scalar time) const {
+  if (!has_terms()) return;
+  m_term_forces.setZero();
+  for (const auto& term : m_cloth->force_terms()) term->add_force(x, v, time, m_term_forces);
+}
 
 template <class Scalar>
 template <int Stride>
@@ -169,6 +194,7 @@ void ForceAssembler<Scalar>::node_pass(BlockFn&& fn) const {
   const Vec3<Scalar> g = m_cloth->gravity();
   const int families = m_families.family_count();
   const std::vector<int>& offsets = m_families.offsets();
+  const bool terms = has_terms();
   const auto share = even_share((n + block_nodes - 1) / block_nodes, team_rank(), team_size());
   for (long long block = share.first; block < share.second; ++block) {
     const Index begin = Index(block) * block_nodes;
@@ -192,16 +218,22 @@ void ForceAssembler<Scalar>::node_pass(BlockFn&& fn) const {
           default: add_families<0>(total[k], start, masses + begin, g[k], as_first, as_second, count); break;
         }
       }
+      if (terms) {
+        const Scalar* extra = m_term_forces.data() + 3 * begin + k;
+        for (int j = 0; j < count; ++j) total[k][j] += extra[3 * j];
+      }
     }
     fn(ForceBlock<Scalar>{begin, count, {total[0], total[1], total[2]}});
   }
 }
 
 template <class Scalar>
-void ForceAssembler<Scalar>::force(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Matrix3X<Scalar>& f) const {
+void ForceAssembler<Scalar>::force(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time,
+                                   Ref3X<Scalar> f) const {
   const Index n = m_cloth->node_count();
   DRAPE_ASSERT(x.cols() == n && v.cols() == n && f.cols() == n, "force(): x, v and f must have one column per node");
   (void)n;
+  evaluate_terms(x, v, time);
   Scalar* out = f.data();
   run_in_team(threads(), [&] {
     spring_pass(node_view(x), node_view(v));

@@ -1,18 +1,21 @@
 #pragma once
 /// \file jacobian_assembler.hpp
 /// Assembles the force Jacobians and the linearised implicit Euler system into a fixed 3x3-block
-/// pattern (solvers/block_sparse_matrix.hpp).
+/// pattern: fills the `LinearSystem` (linalg/linear_system.hpp) the solvers are handed.
 ///
 /// The pattern is built once per cloth, together with each block row's incident springs in
 /// ascending order. A step then writes every value in place (no zeroing, no triplets, no search, no
 /// allocation) in two passes, each split statically over the threads:
 /// 1. per spring: the symmetric (6 values; 9 for the Exact variant) block
-///    \f$ C = \Delta t D + \Delta t^2 K \f$ into the matrix's edge form and the spring's
+///    \f$ C = \Delta t D + \Delta t^2 K \f$ into the system's edge operator and the spring's
 ///    right-hand-side term \f$ g \f$ into a scratch array; no two springs write the same place;
 /// 2. per block row: the diagonal block (mass plus the incident springs' C), the off-diagonal
 ///    blocks (-C) and the right-hand side, gathered from pass 1.
 /// So one barrier separates the passes (scattering into blocks would need one per spring colour),
 /// and every value is summed in the same order (ascending springs) whatever the thread count.
+/// The cloth's force terms (core/force_term.hpp) are added afterwards, on one thread: their force
+/// into b and their derivative blocks into A (the edge operator, which has no room for them, is
+/// then marked invalid).
 ///
 /// System (Baraff & Witkin 1998), with per-spring \f$ C = \Delta t D + \Delta t^2 K \f$
 /// (spring_jacobian.hpp):
@@ -23,20 +26,31 @@
 
 #include <array>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "drape/config.hpp"
 #include "drape/core/cloth.hpp"
-#include "drape/core/parallel.hpp"
+#include "drape/core/enum_names.hpp"
+#include "drape/core/team.hpp"
+#include "drape/linalg/block3.hpp"
+#include "drape/linalg/linear_system.hpp"
 #include "drape/physics/spring_jacobian.hpp"
-#include "drape/solvers/block_sparse_matrix.hpp"
 
 namespace drape {
 
 /// How pinned nodes enter the linear system.
 enum class PinTreatment : std::uint8_t {
   Eliminate = 0,  ///< pinned DOFs are not in the system (any solver)
-  Filter = 1,     ///< every node is in the system; iterative solvers project pinned DOFs out
+  Filter = 1,     ///< every node is in the system; pinned rows are fixed constraints (iterative solvers)
+};
+
+template <>
+struct EnumNames<PinTreatment> {
+  static constexpr const char* parameter = "pin_treatment";
+  static constexpr std::array<EnumName<PinTreatment>, 2> values{
+      {{PinTreatment::Eliminate, "eliminate"}, {PinTreatment::Filter, "filter"}}};
 };
 
 template <class Scalar = double>
@@ -46,6 +60,8 @@ class JacobianAssembler {
 
   /// \param threads 0 = all available.
   explicit JacobianAssembler(const Cloth<Scalar>& cloth, PinTreatment pins = PinTreatment::Eliminate, int threads = 0);
+  /// The assembler keeps a reference to the cloth: a temporary would dangle.
+  JacobianAssembler(const Cloth<Scalar>&& cloth, PinTreatment pins = PinTreatment::Eliminate, int threads = 0) = delete;
 
   const Cloth<Scalar>& cloth() const { return *m_cloth; }
   PinTreatment pin_treatment() const { return m_pins; }
@@ -54,22 +70,26 @@ class JacobianAssembler {
   /// Row of a node, -1 for eliminated (pinned) nodes.
   const std::vector<int>& row_of_node() const { return m_row_of_node; }
   const std::vector<int>& node_of_row() const { return m_node_of_row; }
-  /// Per row: 1 if the node is pinned (only in PinTreatment::Filter), else 0.
-  const std::vector<std::uint8_t>& filter() const { return m_filter; }
-  /// A matrix with the system's pattern and edge form (values zero).
-  BlockSparseMatrix<Scalar> make_matrix() const { return m_pattern; }
   int threads() const { return effective_threads(m_threads, m_cloth->springs().size(), min_springs_per_thread); }
 
-  /// `a` = A (every block and the edge form, symmetric unless `variant` is Exact), `rhs` = b
-  /// (3 * system_nodes()), for positions x and velocities v (3 x n). `a` must come from
-  /// make_matrix(); `rhs` must have the right size. No allocation. Uses a scratch array of the
-  /// assembler: do not call concurrently on the same assembler.
-  void assemble_system(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Scalar dt, JacobianVariant variant,
-                       BlockSparseMatrix<Scalar>& a, VectorX<Scalar>& rhs) const;
+  /// A system for this cloth, values zero: the pattern (springs and the force terms' couplings),
+  /// the edge operator's structure, the lattice layout, the constraints (the pinned rows fixed
+  /// under PinTreatment::Filter) and b. Allocates; once per integrator.
+  LinearSystem<Scalar> make_system() const;
+  /// A matrix with the system's pattern (values zero).
+  BlockSparseMatrix<Scalar> make_matrix() const { return m_pattern; }
+
+  /// The system's A (blocks and, unless force terms add derivatives, the edge operator: symmetric
+  /// unless `variant` is Exact) and b, for positions x, velocities v (3 x n) at `time`, step `dt`.
+  /// `system` must come from make_system(). No allocation. Uses scratch memory of the assembler:
+  /// do not call concurrently on the same assembler.
+  void assemble_system(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time, Scalar dt,
+                       JacobianVariant variant, LinearSystem<Scalar>& system) const;
 
   /// df/dx and df/dv restricted to the system's rows and columns (matrices from make_matrix()).
-  void assemble_jacobians(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, JacobianVariant variant,
-                          BlockSparseMatrix<Scalar>& dfdx, BlockSparseMatrix<Scalar>& dfdv) const;
+  void assemble_jacobians(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time,
+                          JacobianVariant variant, BlockSparseMatrix<Scalar>& dfdx,
+                          BlockSparseMatrix<Scalar>& dfdv) const;
 
  private:
   /// A spring incident on a block row; each row lists its springs in ascending order.
@@ -78,23 +98,36 @@ class JacobianAssembler {
     int block;            // off-diagonal block (this row, other end); -1 if the other end is eliminated
     int node_b;           // 1 if this row is the spring's node b (its right-hand side gets -g)
   };
+  /// The force terms' derivative blocks into a system: A -= dt dfdv + dt^2 dfdx, b += dt^2 dfdx v.
+  class SystemTermBlocks;
+  /// The force terms' derivative blocks into df/dx, df/dv.
+  class JacobianTermBlocks;
 
   template <class Body>
   void for_each_spring(Body&& body) const;
   template <bool Symmetric>
-  void write_system(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Scalar dt, JacobianVariant variant,
-                       BlockSparseMatrix<Scalar>& a, VectorX<Scalar>& rhs) const;
+  void write_system(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar dt, JacobianVariant variant,
+                    LinearSystem<Scalar>& system) const;
+  /// The force terms' share of the system (after write_system()).
+  void add_terms(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time, Scalar dt,
+                 LinearSystem<Scalar>& system) const;
+  /// Block of (node a's row, node b's row); -1 if either is eliminated. \throws std::logic_error if
+  /// a force term writes a pair it did not declare in coupled_nodes().
+  int term_block(const BlockSparseMatrix<Scalar>& a, int node_a, int node_b) const;
 
   const Cloth<Scalar>* m_cloth;
   PinTreatment m_pins;
   int m_threads;
   std::vector<int> m_row_of_node, m_node_of_row;
-  std::vector<std::uint8_t> m_filter;
   std::vector<std::array<int, 6>> m_slots;  // per spring: row a, row b, block aa, bb, ab, ba (-1 = none)
   std::vector<int> m_incidence_begin;       // per row, into m_incidence
   std::vector<Incidence> m_incidence;
   mutable std::vector<Scalar> m_spring_rhs;  // g of every spring (3 each), written by pass 1
   BlockSparseMatrix<Scalar> m_pattern;
+  EdgeOperator<Scalar> m_edges;             // structure only
+  bool m_term_derivatives = false;          // some force term adds derivative blocks
+  std::vector<int> m_term_only_blocks;      // off-diagonal blocks only force terms write (zeroed first)
+  mutable Matrix3X<Scalar> m_term_forces;   // the force terms' total (3 x n; empty without terms)
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -105,35 +138,51 @@ JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, PinTrea
   const int n = cloth.node_count();
   m_row_of_node.assign(static_cast<std::size_t>(n), -1);
   for (int i = 0; i < n; ++i) {
-    const bool pinned = cloth.pins().is_pinned(i);
-    if (pinned && pins == PinTreatment::Eliminate) continue;
+    if (cloth.pins().is_pinned(i) && pins == PinTreatment::Eliminate) continue;
     m_row_of_node[static_cast<std::size_t>(i)] = static_cast<int>(m_node_of_row.size());
     m_node_of_row.push_back(i);
-    m_filter.push_back(pinned ? 1 : 0);
   }
   const SpringSet<Scalar>& sp = cloth.springs();
   const std::size_t rows = m_node_of_row.size();
+  const auto row = [&](int node) { return m_row_of_node[static_cast<std::size_t>(node)]; };
   std::vector<std::vector<int>> columns(rows);
   for (int s = 0; s < sp.size(); ++s) {
-    const int ra = m_row_of_node[static_cast<std::size_t>(sp.a()[s])], rb = m_row_of_node[static_cast<std::size_t>(sp.b()[s])];
+    const int ra = row(sp.a()[s]), rb = row(sp.b()[s]);
     if (ra >= 0 && rb >= 0) {
       columns[static_cast<std::size_t>(ra)].push_back(rb);
       columns[static_cast<std::size_t>(rb)].push_back(ra);
     }
   }
+  // Force terms: their coupled node pairs join the pattern (both ways: it stays symmetric).
+  std::vector<std::array<int, 2>> term_pairs;
+  for (const auto& term : cloth.force_terms()) {
+    if (!term->has_derivatives()) continue;
+    m_term_derivatives = true;
+    for (const std::array<int, 2>& pair : term->coupled_nodes()) {
+      for (int node : pair)
+        if (node < 0 || node >= n)
+          detail::fail_argument("coupled node of force term '" + term->name() + "'", detail::to_text(node),
+                                "[0, " + detail::to_text(n - 1) + "]");
+      const int ra = row(pair[0]), rb = row(pair[1]);
+      if (ra < 0 || rb < 0 || ra == rb) continue;
+      columns[static_cast<std::size_t>(ra)].push_back(rb);
+      columns[static_cast<std::size_t>(rb)].push_back(ra);
+      term_pairs.push_back({ra, rb});
+    }
+  }
   m_pattern = BlockSparseMatrix<Scalar>(std::move(columns));
-  // Edge form (block_sparse_matrix.hpp): one edge per spring, in the springs' colours.
+  // Edge operator (linalg/edge_operator.hpp): one edge per spring, in the springs' colours.
   std::vector<int> edge_rows(2 * static_cast<std::size_t>(sp.size()));
   for (int s = 0; s < sp.size(); ++s) {
-    edge_rows[2 * static_cast<std::size_t>(s)] = m_row_of_node[static_cast<std::size_t>(sp.a()[s])];
-    edge_rows[2 * static_cast<std::size_t>(s) + 1] = m_row_of_node[static_cast<std::size_t>(sp.b()[s])];
+    edge_rows[2 * static_cast<std::size_t>(s)] = row(sp.a()[s]);
+    edge_rows[2 * static_cast<std::size_t>(s) + 1] = row(sp.b()[s]);
   }
   std::vector<Scalar> row_mass(rows);
   for (std::size_t r = 0; r < rows; ++r) row_mass[r] = cloth.grid().masses()[m_node_of_row[r]];
-  m_pattern.set_edge_form(std::move(edge_rows), sp.colour_begin(), std::move(row_mass));
+  m_edges = EdgeOperator<Scalar>(std::move(edge_rows), sp.colour_begin(), std::move(row_mass));
   m_slots.resize(static_cast<std::size_t>(sp.size()));
   for (int s = 0; s < sp.size(); ++s) {
-    const int ra = m_row_of_node[static_cast<std::size_t>(sp.a()[s])], rb = m_row_of_node[static_cast<std::size_t>(sp.b()[s])];
+    const int ra = row(sp.a()[s]), rb = row(sp.b()[s]);
     const bool both = ra >= 0 && rb >= 0;
     m_slots[static_cast<std::size_t>(s)] = {ra, rb, ra >= 0 ? m_pattern.diagonal()[static_cast<std::size_t>(ra)] : -1,
                                             rb >= 0 ? m_pattern.diagonal()[static_cast<std::size_t>(rb)] : -1,
@@ -147,22 +196,43 @@ JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, PinTrea
   for (std::size_t r = 0; r < rows; ++r) m_incidence_begin[r + 1] += m_incidence_begin[r];
   m_incidence.resize(static_cast<std::size_t>(m_incidence_begin.back()));
   std::vector<int> next(m_incidence_begin.begin(), m_incidence_begin.end() - 1);
-  std::vector<std::uint8_t> block_seen(static_cast<std::size_t>(m_pattern.block_count()), 0);  // for the check
+  std::vector<std::uint8_t> spring_block(static_cast<std::size_t>(m_pattern.block_count()), 0);
   for (int s = 0; s < sp.size(); ++s) {
     const std::array<int, 6>& slot = m_slots[static_cast<std::size_t>(s)];
     for (int side = 0; side < 2; ++side) {
-      const int row = slot[static_cast<std::size_t>(side)];
-      if (row < 0) continue;
+      const int r = slot[static_cast<std::size_t>(side)];
+      if (r < 0) continue;
       const int block = slot[4 + static_cast<std::size_t>(side)];
       if (block >= 0) {
         // Grid springs join distinct node pairs, so each off-diagonal block is one spring's -C.
-        DRAPE_ASSERT(!block_seen[static_cast<std::size_t>(block)], "JacobianAssembler: two springs join the same nodes");
-        block_seen[static_cast<std::size_t>(block)] = 1;
+        DRAPE_ASSERT(!spring_block[static_cast<std::size_t>(block)], "JacobianAssembler: two springs join the same nodes");
+        spring_block[static_cast<std::size_t>(block)] = 1;
       }
-      m_incidence[static_cast<std::size_t>(next[static_cast<std::size_t>(row)]++)] = Incidence{s, block, side};
+      m_incidence[static_cast<std::size_t>(next[static_cast<std::size_t>(r)]++)] = Incidence{s, block, side};
     }
   }
   m_spring_rhs.assign(3 * static_cast<std::size_t>(sp.size()), Scalar(0));
+  // Blocks that only force terms write: the row pass leaves them alone, so they are zeroed first.
+  for (const std::array<int, 2>& pair : term_pairs)
+    for (const int block : {m_pattern.find(pair[0], pair[1]), m_pattern.find(pair[1], pair[0])})
+      if (!spring_block[static_cast<std::size_t>(block)]) {
+        spring_block[static_cast<std::size_t>(block)] = 1;
+        m_term_only_blocks.push_back(block);
+      }
+  if (!cloth.force_terms().empty()) m_term_forces.setZero(3, n);
+}
+
+template <class Scalar>
+LinearSystem<Scalar> JacobianAssembler<Scalar>::make_system() const {
+  LinearSystem<Scalar> system;
+  system.matrix = m_pattern;
+  system.edges = m_edges;
+  system.layout = GridLayout{m_cloth->grid().nx(), m_cloth->grid().ny(), m_row_of_node};
+  system.constraints = ConstraintFilter<Scalar>(system_nodes());
+  if (m_pins == PinTreatment::Filter)
+    for (int node : m_cloth->pins().nodes()) system.constraints.fix(m_row_of_node[static_cast<std::size_t>(node)]);
+  system.rhs.setZero(3 * static_cast<Index>(system_nodes()));
+  return system;
 }
 
 template <class Scalar>
@@ -170,45 +240,95 @@ template <class Body>
 void JacobianAssembler<Scalar>::for_each_spring(Body&& body) const {
   const std::vector<int>& colour = m_cloth->springs().colour_begin();
   const int colours = m_cloth->springs().colour_count();
-  const auto run = [&]() {
-    for (int c = 0; c < colours; ++c) {
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-      for (int s = colour[c]; s < colour[c + 1]; ++s) body(s);
-    }
-  };
-#if defined(_OPENMP)
-  const int t = threads();
-  if (t > 1) {
-#pragma omp parallel num_threads(t)
-    run();
-    return;
-  }
-#endif
-  run();
+  run_in_team(threads(), [&] {
+    for (int c = 0; c < colours; ++c) team_for(colour[c], colour[c + 1], body);
+  });
 }
 
 template <class Scalar>
-void JacobianAssembler<Scalar>::assemble_system(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Scalar dt,
-                                                JacobianVariant variant, BlockSparseMatrix<Scalar>& a,
-                                                VectorX<Scalar>& rhs) const {
-  DRAPE_ASSERT(a.block_count() == m_pattern.block_count(), "assemble_system(): matrix not made by make_matrix()");
-  DRAPE_ASSERT(rhs.size() == 3 * system_nodes(), "assemble_system(): rhs has the wrong size");
-  if (a.edge_count() != m_pattern.edge_count())  // the caller dropped the edge form: restore it
-    a.set_edge_form(m_pattern.edge_rows(), m_pattern.edge_colour_begin(), m_pattern.row_mass());
+void JacobianAssembler<Scalar>::assemble_system(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time,
+                                                Scalar dt, JacobianVariant variant, LinearSystem<Scalar>& system) const {
+  DRAPE_ASSERT(system.matrix.block_count() == m_pattern.block_count(), "assemble_system(): system not made by make_system()");
+  DRAPE_ASSERT(system.rhs.size() == 3 * system_nodes(), "assemble_system(): rhs has the wrong size");
+  if (system.edges.edge_count() != m_edges.edge_count()) system.edges = m_edges;  // the caller dropped it: restore
   if (variant == JacobianVariant::Exact)
-    write_system<false>(x, v, dt, variant, a, rhs);
+    write_system<false>(x, v, dt, variant, system);
   else
-    write_system<true>(x, v, dt, variant, a, rhs);
-  a.mark_edge_form_valid(variant != JacobianVariant::Exact);
+    write_system<true>(x, v, dt, variant, system);
+  system.edges.set_valid(variant != JacobianVariant::Exact);
+  if (!m_cloth->force_terms().empty()) add_terms(x, v, time, dt, system);
+}
+
+template <class Scalar>
+int JacobianAssembler<Scalar>::term_block(const BlockSparseMatrix<Scalar>& a, int node_a, int node_b) const {
+  const int ra = m_row_of_node[static_cast<std::size_t>(node_a)], rb = m_row_of_node[static_cast<std::size_t>(node_b)];
+  if (ra < 0 || rb < 0) return -1;
+  const int block = ra == rb ? a.diagonal()[static_cast<std::size_t>(ra)] : a.find(ra, rb);
+  if (block < 0)
+    throw std::logic_error("drape: a force term wrote the block of nodes " + detail::to_text(node_a) + " and " +
+                           detail::to_text(node_b) + " without listing the pair in coupled_nodes()");
+  return block;
+}
+
+template <class Scalar>
+class JacobianAssembler<Scalar>::SystemTermBlocks final : public ForceDerivatives<Scalar> {
+ public:
+  SystemTermBlocks(const JacobianAssembler& assembler, const ConstRef3X<Scalar>& v, Scalar dt,
+                   LinearSystem<Scalar>& system)
+      : m_assembler(assembler), m_v(v), m_dt(dt), m_system(system) {}
+  void add(int a, int b, const Mat3<Scalar>& dfdx, const Mat3<Scalar>& dfdv) override {
+    const int ra = m_assembler.m_row_of_node[static_cast<std::size_t>(a)];
+    if (ra < 0) return;
+    // b += dt^2 (df/dx) v for every column, eliminated or not.
+    m_system.rhs.template segment<3>(3 * static_cast<Index>(ra)) += (m_dt * m_dt) * (dfdx * m_v.col(b));
+    const int block = m_assembler.term_block(m_system.matrix, a, b);
+    if (block >= 0) m_system.matrix.block(block) -= m_dt * dfdv + (m_dt * m_dt) * dfdx;
+  }
+
+ private:
+  const JacobianAssembler& m_assembler;
+  const ConstRef3X<Scalar>& m_v;
+  Scalar m_dt;
+  LinearSystem<Scalar>& m_system;
+};
+
+template <class Scalar>
+class JacobianAssembler<Scalar>::JacobianTermBlocks final : public ForceDerivatives<Scalar> {
+ public:
+  JacobianTermBlocks(const JacobianAssembler& assembler, BlockSparseMatrix<Scalar>& dfdx, BlockSparseMatrix<Scalar>& dfdv)
+      : m_assembler(assembler), m_dfdx(dfdx), m_dfdv(dfdv) {}
+  void add(int a, int b, const Mat3<Scalar>& dfdx, const Mat3<Scalar>& dfdv) override {
+    const int block = m_assembler.term_block(m_dfdx, a, b);
+    if (block < 0) return;
+    m_dfdx.block(block) += dfdx;
+    m_dfdv.block(block) += dfdv;
+  }
+
+ private:
+  const JacobianAssembler& m_assembler;
+  BlockSparseMatrix<Scalar>& m_dfdx;
+  BlockSparseMatrix<Scalar>& m_dfdv;
+};
+
+template <class Scalar>
+void JacobianAssembler<Scalar>::add_terms(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time,
+                                          Scalar dt, LinearSystem<Scalar>& system) const {
+  m_term_forces.setZero();
+  for (const auto& term : m_cloth->force_terms()) term->add_force(x, v, time, m_term_forces);
+  for (int r = 0; r < system_nodes(); ++r)
+    system.rhs.template segment<3>(3 * static_cast<Index>(r)) += dt * m_term_forces.col(m_node_of_row[static_cast<std::size_t>(r)]);
+  if (!m_term_derivatives) return;
+  for (int block : m_term_only_blocks) system.matrix.block(block).setZero();
+  SystemTermBlocks blocks(*this, v, dt, system);
+  for (const auto& term : m_cloth->force_terms())
+    if (term->has_derivatives()) term->add_derivatives(x, v, time, blocks);
+  system.edges.invalidate();  // its diagonal is the mass alone
 }
 
 template <class Scalar>
 template <bool Symmetric>
-void JacobianAssembler<Scalar>::write_system(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v, Scalar dt,
-                                             JacobianVariant variant, BlockSparseMatrix<Scalar>& a,
-                                             VectorX<Scalar>& rhs) const {
+void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar dt,
+                                             JacobianVariant variant, LinearSystem<Scalar>& system) const {
   constexpr int stride = Symmetric ? 6 : 9;  // edge-form values per spring
   const SpringSet<Scalar>& sp = m_cloth->springs();
   const int springs = sp.size();
@@ -220,23 +340,20 @@ void JacobianAssembler<Scalar>::write_system(const Matrix3X<Scalar>& x, const Ma
   const Scalar* kd = sp.damping().data();
   const Scalar* masses = m_cloth->grid().masses().data();
   const int* node_of_row = m_node_of_row.data();
-  const int* diagonal = a.diagonal().data();
+  const int* diagonal = system.matrix.diagonal().data();
   const int* incidence_begin = m_incidence_begin.data();
   const Incidence* incidence = m_incidence.data();
   const Vec3<Scalar> gravity = m_cloth->gravity();
   const Scalar dt2 = dt * dt;
-  Scalar* blocks = a.edge_values();
+  Scalar* blocks = system.edges.values();
   Scalar* g_all = m_spring_rhs.data();
-  Scalar* values = a.values();
-  Scalar* b = rhs.data();
+  Scalar* values = system.matrix.values();
+  Scalar* b = system.rhs.data();
 
   // Pass 1, per spring: C = p u u^T + q I (+ r u w^T, Exact) and g = dt (phi u + dt K w) with
   // K w = (k_uu w.u + k_uw w.w) u + k_i w.
   const auto spring_pass = [&]() {
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-    for (int s = 0; s < springs; ++s) {
+    team_for(springs, [&](int s) {
       const SpringLinearisation<Scalar> l =
           linearise_spring<Scalar>(x.col(ia[s]), x.col(ib[s]), v.col(ia[s]), v.col(ib[s]), rest[s], ks[s], kd[s], variant);
       const Scalar p = dt * kd[s] + dt2 * l.k_uu;
@@ -268,24 +385,19 @@ void JacobianAssembler<Scalar>::write_system(const Matrix3X<Scalar>& x, const Ma
       g[0] = g_u * u0 + q * l.w[0];
       g[1] = g_u * u1 + q * l.w[1];
       g[2] = g_u * u2 + q * l.w[2];
-    }
+    });
   };
   // The full 3x3 block (column-major) of a spring's stored C.
   const auto expand = [](const Scalar* c, Scalar* full) {
     if constexpr (Symmetric) {
-      full[0] = c[0]; full[1] = c[1]; full[2] = c[3];
-      full[3] = c[1]; full[4] = c[2]; full[5] = c[4];
-      full[6] = c[3]; full[7] = c[4]; full[8] = c[5];
+      expand_symmetric_block(c, full);
     } else {
       for (int k = 0; k < 9; ++k) full[k] = c[k];
     }
   };
   // Pass 2, per block row: diagonal m I + sum C, off-diagonal -C, b = dt m g + sum (+-g).
   const auto row_pass = [&]() {
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-    for (int row = 0; row < rows; ++row) {
+    team_for(rows, [&](int row) {
       const Scalar m = masses[node_of_row[row]];
       Scalar diag[stride];
       for (int k = 0; k < stride; ++k) diag[k] = 0;
@@ -317,26 +429,18 @@ void JacobianAssembler<Scalar>::write_system(const Matrix3X<Scalar>& x, const Ma
       b[3 * row] = b0;
       b[3 * row + 1] = b1;
       b[3 * row + 2] = b2;
-    }
+    });
   };
-#if defined(_OPENMP)
-  const int t = threads();
-  if (t > 1) {
-#pragma omp parallel num_threads(t)
-    {
-      spring_pass();  // its implicit barrier publishes C and g to the row pass
-      row_pass();
-    }
-    return;
-  }
-#endif
-  spring_pass();
-  row_pass();
+  run_in_team(threads(), [&] {
+    spring_pass();  // its barrier publishes C and g to the row pass
+    row_pass();
+  });
 }
 
 template <class Scalar>
-void JacobianAssembler<Scalar>::assemble_jacobians(const Matrix3X<Scalar>& x, const Matrix3X<Scalar>& v,
-                                                   JacobianVariant variant, BlockSparseMatrix<Scalar>& dfdx,
+void JacobianAssembler<Scalar>::assemble_jacobians(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v,
+                                                   Scalar time, JacobianVariant variant,
+                                                   BlockSparseMatrix<Scalar>& dfdx,
                                                    BlockSparseMatrix<Scalar>& dfdv) const {
   const SpringSet<Scalar>& sp = m_cloth->springs();
   dfdx.set_zero();
@@ -352,6 +456,10 @@ void JacobianAssembler<Scalar>::assemble_jacobians(const Matrix3X<Scalar>& x, co
     if (slot[4] >= 0) { dfdx.block(slot[4]) += d.dfdx; dfdv.block(slot[4]) += d.dfdv; }
     if (slot[5] >= 0) { dfdx.block(slot[5]) += d.dfdx; dfdv.block(slot[5]) += d.dfdv; }
   });
+  if (!m_term_derivatives) return;
+  JacobianTermBlocks blocks(*this, dfdx, dfdv);
+  for (const auto& term : m_cloth->force_terms())
+    if (term->has_derivatives()) term->add_derivatives(x, v, time, blocks);
 }
 
 }  // namespace drape

@@ -17,8 +17,10 @@
 /// \f$ M - \Delta t\, \partial f/\partial v - \Delta t^2 \partial f/\partial x \f$ is symmetric positive definite.
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 
+#include "drape/core/enum_names.hpp"
 #include "drape/core/types.hpp"
 
 namespace drape {
@@ -30,14 +32,12 @@ enum class JacobianVariant : std::uint8_t {
   Spd = 2,        ///< Symmetric with compressed springs' transverse stiffness clamped to >= 0
 };
 
-inline const char* to_string(JacobianVariant v) {
-  switch (v) {
-    case JacobianVariant::Exact: return "exact";
-    case JacobianVariant::Symmetric: return "symmetric";
-    case JacobianVariant::Spd: return "spd";
-  }
-  return "unknown";
-}
+template <>
+struct EnumNames<JacobianVariant> {
+  static constexpr const char* parameter = "jacobian";
+  static constexpr std::array<EnumName<JacobianVariant>, 3> values{
+      {{JacobianVariant::Exact, "exact"}, {JacobianVariant::Symmetric, "symmetric"}, {JacobianVariant::Spd, "spd"}}};
+};
 
 /// The scalars every derivative block of one spring is made of (see the file comment):
 /// \f$ f_a = \varphi u \f$, \f$ K = k_{uu}\, u u^T + k_I\, I + k_{uw}\, u w^T \f$ and

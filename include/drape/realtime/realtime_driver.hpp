@@ -1,6 +1,7 @@
 #pragma once
 /// \file realtime_driver.hpp
-/// Real-time pacing (the brief's part c): turns wall-clock time into whole fixed time steps.
+/// Real-time pacing: turns wall-clock time into whole fixed time steps, at a constant ratio of
+/// simulated to wall time (the real-time factor) whatever the frame rate.
 ///
 /// Each frame the driver measures the wall time \f$ \Delta w \f$ since the previous frame with a
 /// monotonic clock, owes the simulation \f$ \rho\,\Delta w \f$ more simulated time (\f$\rho\f$ = real-time
@@ -16,13 +17,14 @@
 /// The owed time is recomputed each frame from exact totals (integer clock ticks since `start()`,
 /// steps granted, time dropped), so rounding does not accumulate over a long run.
 ///
-/// The driver does not step anything itself; the caller runs the granted steps:
+/// The driver does not step anything itself; the caller runs the granted steps of the
+/// integrator, which owns dt:
 /// \code
-///   drape::RealtimeDriver<> driver(dt, /*factor=*/1.0, /*max_steps=*/40);
+///   drape::RealtimeDriver<> driver(integrator.dt(), {/*realtime_factor=*/1.0, /*max_steps_per_frame=*/40});
 ///   driver.start();
 ///   while (running) {
 ///     const auto frame = driver.next_frame();
-///     for (int k = 0; k < frame.steps; ++k) integrator.step(state, dt);
+///     for (int k = 0; k < frame.steps; ++k) integrator.step(state);
 ///     draw(previous_state, state, frame.interpolation);
 ///   }
 /// \endcode
@@ -50,6 +52,21 @@ struct RealtimeFrame {
   double overall_factor() const { return total_wall > 0 ? total_simulated / total_wall : 0.0; }
 };
 
+/// How the driver paces: its settings besides the time step.
+struct RealtimeSettings {
+  /// Simulated seconds per wall-clock second (0.5 = half speed, 2 = double speed).
+  double realtime_factor = 1.0;
+  /// Cap on the steps granted per frame; simulated time beyond it is dropped.
+  int max_steps_per_frame = 64;
+
+  /// \throws InvalidParameter naming `realtime_factor` (finite and > 0) or `max_steps_per_frame`
+  /// ([1, 100000000]).
+  void validate() const {
+    detail::require_positive_finite("realtime_factor", realtime_factor);
+    detail::require_in_range("max_steps_per_frame", max_steps_per_frame, 1, 100'000'000);
+  }
+};
+
 /// \tparam Clock a monotonic clock with static `now()` (std::chrono::steady_clock by default;
 /// tests use a fake clock).
 template <class Clock = std::chrono::steady_clock>
@@ -59,16 +76,12 @@ class RealtimeDriver {
   using time_point = typename Clock::time_point;
   using duration = typename Clock::duration;
 
-  /// \param dt fixed simulation step (s), finite and > 0.
-  /// \param realtime_factor simulated seconds per wall-clock second, finite and > 0
-  ///        (0.5 = half speed, 2 = double speed).
-  /// \param max_steps_per_frame cap on the steps granted per frame, >= 1.
-  /// \throws std::invalid_argument naming the parameter and its allowed range.
-  RealtimeDriver(double dt, double realtime_factor = 1.0, int max_steps_per_frame = 64)
-      : m_dt(dt), m_factor(realtime_factor), m_max_steps(max_steps_per_frame) {
-    detail::require_positive_finite("dt", dt);
-    detail::require_positive_finite("realtime_factor", realtime_factor);
-    detail::require_at_least("max_steps_per_frame", max_steps_per_frame, 1);
+  /// \param dt the integrator's fixed time step (s), finite and > 0 (Integrator::dt()).
+  /// \throws InvalidParameter naming the parameter and its allowed range.
+  explicit RealtimeDriver(double dt, const RealtimeSettings& settings = {})
+      : m_dt(dt), m_factor(settings.realtime_factor), m_max_steps(settings.max_steps_per_frame) {
+    detail::require_time_step(dt);
+    settings.validate();
     m_snap = 0.5 * m_factor * seconds(duration(1));
   }
 

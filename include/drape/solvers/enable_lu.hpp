@@ -1,8 +1,8 @@
 #pragma once
 /// \file enable_lu.hpp
 /// Makes the solver `lu` (Eigen SparseLU with COLAMD ordering, eigen_direct.hpp) available by name
-/// (ImplicitOptions::solver, make_linear_solver()) for double and float. Include it in any one
-/// translation unit of the program: it registers the solver during static initialisation. That
+/// and kind (ImplicitOptions::solver, make_linear_solver()) for double and float. Include it in any
+/// one translation unit of the program: it registers the solver during static initialisation. That
 /// translation unit compiles SparseLU (~8 s per scalar type), which is why `lu` is opt-in
 /// (solver_registry.hpp).
 
@@ -10,5 +10,5 @@
 #include "drape/solvers/solver_registry.hpp"
 
 namespace drape::detail {
-inline const bool lu_solver_registered = register_solver<EigenLuSolver>("lu");
+inline const bool lu_solver_registered = register_solver<EigenLuSolver>(LinearSolverKind::Lu);
 }  // namespace drape::detail

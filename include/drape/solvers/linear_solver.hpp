@@ -1,71 +1,60 @@
 #pragma once
 /// \file linear_solver.hpp
-/// The interface every linear solver of the implicit integrator implements, and shared helpers.
+/// The interface every linear solver of the implicit integrator implements (drape's own, listed in
+/// solver_kind.hpp, and any a user writes), and the settings of the iterative ones.
 ///
-/// Life cycle: `analyze(A)` once per pattern (symbolic work: ordering, symbolic factorisation,
-/// workspaces), then `solve(A, b, x)` every step with new values in the same pattern. `x` holds the
-/// warm start on entry (iterative solvers use it; direct solvers ignore it) and the solution on
-/// exit. `filter` (optional, one byte per block row) marks rows whose unknowns are held at zero
-/// (pinned nodes in PinTreatment::Filter); only solvers with `supports_filter()` accept it.
+/// Life cycle: `analyze(system)` once per pattern (symbolic work: ordering, symbolic
+/// factorisation, workspaces, multigrid hierarchy), then `solve(system, x)` every step with new
+/// values in the same pattern. `x` holds the warm start on entry (iterative solvers use it; direct
+/// solvers ignore it) and the solution on exit. A solver that accepts constraints
+/// (`capabilities().supports_constraints`) honours `system.constraints`; the others need every
+/// constrained unknown eliminated from the system.
 
-#include <cmath>
-#include <cstdint>
 #include <string>
 
-#include "drape/integrators/step_status.hpp"
-#include "drape/solvers/block_sparse_matrix.hpp"
-#include "drape/solvers/grid_layout.hpp"
+#include "drape/core/team.hpp"
+#include "drape/core/validation.hpp"
+#include "drape/linalg/linear_system.hpp"
+#include "drape/solvers/preconditioner.hpp"
+#include "drape/solvers/solve_status.hpp"
 
 namespace drape {
 
-/// Preconditioner of the iterative solvers.
-enum class Preconditioner : std::uint8_t {
-  BlockJacobi = 0,  ///< inverse 3x3 diagonal blocks: needs nothing but the matrix
-  Multigrid = 1,    ///< geometric multigrid V-cycle (multigrid.hpp): needs the GridLayout; cg only
-};
-
-inline const char* to_string(Preconditioner p) { return p == Preconditioner::Multigrid ? "multigrid" : "block-jacobi"; }
-
-/// Settings of the iterative solvers.
-struct IterativeSettings {
-  double tolerance = 1e-6;  ///< stop when |b - A x| <= tolerance |b|
-  int max_iterations = 1000;
-  int threads = 0;          ///< 0 = all available
-  Preconditioner preconditioner = Preconditioner::BlockJacobi;
+/// What a solver can do; the implicit integrator checks its options against it.
+struct SolverCapabilities {
+  bool symmetric_only = false;        ///< needs a symmetric matrix (rejects the Exact Jacobian)
+  bool supports_constraints = false;  ///< honours LinearSystem::constraints (e.g. filtered pins)
+  bool iterative = false;             ///< warm-started from x; reports iterations
 };
 
 template <class Scalar = double>
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
-  /// The name it is selected by ("cg", "ldlt", ...).
-  virtual const char* name() const = 0;
-  /// True if the solver needs a symmetric matrix (Symmetric or Spd Jacobian).
-  virtual bool requires_symmetric() const = 0;
-  virtual bool supports_filter() const { return false; }
-  /// Where the rows sit on the lattice; call before analyze(). Solvers that do not exploit the
-  /// geometry ignore it.
-  virtual void set_grid_layout(const GridLayout& /*layout*/) {}
-  virtual void analyze(const BlockSparseMatrix<Scalar>& a) = 0;
-  virtual StepStatus solve(const BlockSparseMatrix<Scalar>& a, const VectorX<Scalar>& b, VectorX<Scalar>& x,
-                           const std::uint8_t* filter = nullptr) = 0;
+  /// A name for messages (drape's solvers: the name they are selected by, "cg", "ldlt", ...).
+  virtual std::string name() const = 0;
+  virtual SolverCapabilities capabilities() const = 0;
+  /// Set-up for systems with `system`'s pattern. \throws InvalidParameter if the solver cannot
+  /// work on them (e.g. the multigrid preconditioner without a lattice layout).
+  virtual void analyze(const LinearSystem<Scalar>& system) = 0;
+  /// Solves `system` (pattern as in analyze(), which it calls itself if the size changed).
+  virtual SolveStatus solve(const LinearSystem<Scalar>& system, VectorX<Scalar>& x) = 0;
 };
 
-namespace detail {
+/// Settings of the iterative solvers.
+struct IterativeSettings {
+  double tolerance = 1e-6;  ///< stop when |S(b - A x)| <= tolerance |S b|
+  int max_iterations = 1000;
+  int threads = 0;          ///< 0 = all available
+  PreconditionerKind preconditioner = PreconditionerKind::BlockJacobi;
 
-/// `|b - A x| / |b|` (0 if b = 0), using `work` (size of b) as scratch: no allocation.
-template <class Scalar>
-double relative_residual(const BlockSparseMatrix<Scalar>& a, const VectorX<Scalar>& b, const VectorX<Scalar>& x,
-                         VectorX<Scalar>& work, int threads) {
-  a.multiply(x.data(), work.data(), threads);
-  double rr = 0, bb = 0;
-  for (Index i = 0; i < b.size(); ++i) {
-    const double r = double(b[i]) - double(work[i]);
-    rr += r * r;
-    bb += double(b[i]) * double(b[i]);
+  /// \throws InvalidParameter for tolerance outside (0, 1), max_iterations < 1 or threads < 0.
+  void validate() const {
+    if (!(std::isfinite(tolerance) && tolerance > 0 && tolerance < 1))
+      detail::fail_argument("tolerance", detail::to_text(tolerance), "finite, > 0 and < 1");
+    detail::require_at_least("max_iterations", max_iterations, 1);
+    detail::require_at_least("threads", threads, 0);
   }
-  return bb > 0 ? std::sqrt(rr / bb) : std::sqrt(rr);
-}
+};
 
-}  // namespace detail
 }  // namespace drape

@@ -1,35 +1,28 @@
 #pragma once
 /// \file solver_registry.hpp
-/// Linear solvers by name, for run-time selection:
+/// drape's linear solvers by kind or name, for run-time selection: which ones this program has,
+/// and a factory for each (the table of solvers is solver_kind.hpp).
 ///
-/// | name       | method                                     | matrix          | needs                                   |
-/// |------------|--------------------------------------------|-----------------|-----------------------------------------|
-/// | `cg`       | block-Jacobi PCG, warm-started (pcg.hpp)   | SPD             | header-only                             |
-/// | `bicgstab` | block-Jacobi BiCGSTAB (bicgstab.hpp)       | any             | header-only                             |
-/// | `ldlt`     | Eigen SimplicialLDLT, AMD (eigen_direct.hpp) | symmetric, PD | opt-in: `drape/solvers/enable_ldlt.hpp` |
-/// | `lu`       | Eigen SparseLU, COLAMD (eigen_direct.hpp)  | any             | opt-in: `drape/solvers/enable_lu.hpp`   |
-/// | `cholmod`  | CHOLMOD supernodal LL^T, AMD (cholmod.hpp) | SPD             | SuiteSparse                             |
-/// | `umfpack`  | UMFPACK LU (umfpack.hpp)                   | any             | SuiteSparse                             |
-///
-/// The SuiteSparse ones exist only when DRAPE_HAS_SUITESPARSE is defined (link drape::suitesparse).
-///
-/// Opt-in solvers: Eigen's sparse direct solvers take seconds to compile (SparseLU ~8 s, simplicial
-/// LDLT ~2 s per scalar type; bench/analysis.md). A registry that named them in code would compile
-/// them into every translation unit that constructs an ImplicitEuler, whether or not it ever uses
-/// them. Instead, including `enable_lu.hpp` / `enable_ldlt.hpp` in any one translation unit of a
-/// program registers that solver for double and float during static initialisation (before
-/// main()); until then its name is rejected with a message naming the header.
+/// Built in: cg and bicgstab always; cholmod and umfpack when DRAPE_HAS_SUITESPARSE is defined
+/// (link drape::suitesparse). Opt-in: Eigen's sparse direct solvers take seconds to compile
+/// (SparseLU ~8 s, simplicial LDLT ~2 s per scalar type; bench/analysis.md). A registry that named
+/// them in code would compile them into every translation unit that constructs an ImplicitEuler,
+/// whether or not it ever uses them. Instead, including `enable_lu.hpp` / `enable_ldlt.hpp` in any
+/// one translation unit of a program registers that solver for double and float during static
+/// initialisation (before main()); until then it is rejected with a message naming the header.
 
-#include <algorithm>
+#include <array>
 #include <memory>
 #include <string>
-#include <utility>
+#include <string_view>
 #include <vector>
 
+#include "drape/core/enum_names.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/solvers/bicgstab.hpp"
 #include "drape/solvers/linear_solver.hpp"
 #include "drape/solvers/pcg.hpp"
+#include "drape/solvers/solver_kind.hpp"
 
 #if defined(DRAPE_HAS_SUITESPARSE)
 #include "drape/solvers/cholmod.hpp"
@@ -41,101 +34,82 @@ namespace drape {
 namespace detail {
 
 template <class Scalar>
-using SolverFactory = std::unique_ptr<LinearSolver<Scalar>> (*)();
+using SolverFactory = std::unique_ptr<LinearSolver<Scalar>> (*)(const IterativeSettings&);
 
-/// Opt-in solvers registered so far for one scalar type, in registration order.
+template <class Scalar, template <class> class Solver>
+std::unique_ptr<LinearSolver<Scalar>> make_iterative(const IterativeSettings& settings) {
+  return std::make_unique<Solver<Scalar>>(settings);
+}
+template <class Scalar, template <class> class Solver>
+std::unique_ptr<LinearSolver<Scalar>> make_direct(const IterativeSettings&) {
+  return std::make_unique<Solver<Scalar>>();
+}
+
+/// The factory of every kind this program has for `Scalar` (null: not available), indexed by kind.
 template <class Scalar>
-std::vector<std::pair<std::string, SolverFactory<Scalar>>>& registered_solvers() {
-  static std::vector<std::pair<std::string, SolverFactory<Scalar>>> table;
+std::array<SolverFactory<Scalar>, linear_solver_kind_count>& solver_factories() {
+  static std::array<SolverFactory<Scalar>, linear_solver_kind_count> table = [] {
+    std::array<SolverFactory<Scalar>, linear_solver_kind_count> t{};
+    t[static_cast<std::size_t>(LinearSolverKind::Cg)] = &make_iterative<Scalar, PcgSolver>;
+    t[static_cast<std::size_t>(LinearSolverKind::Bicgstab)] = &make_iterative<Scalar, BicgstabSolver>;
+#if defined(DRAPE_HAS_SUITESPARSE)
+    t[static_cast<std::size_t>(LinearSolverKind::Cholmod)] = &make_direct<Scalar, CholmodSolver>;
+    t[static_cast<std::size_t>(LinearSolverKind::Umfpack)] = &make_direct<Scalar, UmfpackSolver>;
+#endif
+    return t;
+  }();
   return table;
 }
 
-/// Registers `Solver<double>` and `Solver<float>` under `name` (the enable_*.hpp headers call it
-/// from an inline variable's initialiser, which runs once per program). Returns true.
+/// Registers the direct solver `Solver<double>` and `Solver<float>` as `kind` (the enable_*.hpp
+/// headers call it from an inline variable's initialiser, which runs once per program).
 template <template <class> class Solver>
-bool register_solver(const char* name) {
-  registered_solvers<double>().emplace_back(name, []() -> std::unique_ptr<LinearSolver<double>> {
-    return std::make_unique<Solver<double>>();
-  });
-  registered_solvers<float>().emplace_back(name, []() -> std::unique_ptr<LinearSolver<float>> {
-    return std::make_unique<Solver<float>>();
-  });
+bool register_solver(LinearSolverKind kind) {
+  solver_factories<double>()[static_cast<std::size_t>(kind)] = &make_direct<double, Solver>;
+  solver_factories<float>()[static_cast<std::size_t>(kind)] = &make_direct<float, Solver>;
   return true;
 }
 
-template <class Scalar>
-SolverFactory<Scalar> registered_solver(const std::string& name) {
-  for (const auto& [registered, make] : registered_solvers<Scalar>())
-    if (registered == name) return make;
-  return nullptr;
-}
-
-/// What a known solver that this program lacks needs.
-inline std::string solver_requirement(const std::string& name) {
-  if (name == "ldlt" || name == "lu")
-    return "opt-in: #include <drape/solvers/enable_" + name + ".hpp> in one source file of the program";
-  return "needs SuiteSparse: link drape::suitesparse";
-}
-
 }  // namespace detail
 
-/// Names drape knows, whether or not this program has them.
-inline std::vector<std::string> known_solvers() { return {"cg", "bicgstab", "ldlt", "lu", "cholmod", "umfpack"}; }
-
-/// Names of the solvers this program supports (the built-in ones, the opt-in ones registered so
-/// far, and the SuiteSparse ones when built with them), in the order of known_solvers().
-inline std::vector<std::string> available_solvers() {
-  std::vector<std::string> names;
-  for (const std::string& name : known_solvers()) {
-    bool available = name == "cg" || name == "bicgstab" || detail::registered_solver<double>(name) != nullptr;
-#if defined(DRAPE_HAS_SUITESPARSE)
-    available = available || name == "cholmod" || name == "umfpack";
-#endif
-    if (available) names.push_back(name);
-  }
-  return names;
+/// True if this program has `kind` (for double: opt-in solvers are registered for double and float).
+inline bool solver_available(LinearSolverKind kind) {
+  return detail::solver_factories<double>()[static_cast<std::size_t>(kind)] != nullptr;
 }
 
-/// True if `name` needs a symmetric system matrix (rejects the Exact Jacobian).
-inline bool solver_requires_symmetric(const std::string& name) {
-  return name == "cg" || name == "ldlt" || name == "cholmod";
+/// The kinds this program has, in table order.
+inline std::vector<LinearSolverKind> available_solvers() {
+  std::vector<LinearSolverKind> kinds;
+  for (const EnumName<LinearSolverKind>& e : EnumNames<LinearSolverKind>::values)
+    if (solver_available(e.value)) kinds.push_back(e.value);
+  return kinds;
 }
 
-/// True if `name` can hold pinned DOFs by filtering (PinTreatment::Filter).
-inline bool solver_supports_filter(const std::string& name) { return name == "cg" || name == "bicgstab"; }
-
-namespace detail {
-inline std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
+/// \throws InvalidParameter naming `solver` if this program lacks `kind`: the message says what it
+/// needs (a header to include, or SuiteSparse) and lists the solvers it has.
+inline void require_solver_available(LinearSolverKind kind) {
+  if (solver_available(kind)) return;
+  std::string have;
+  for (LinearSolverKind k : available_solvers()) have += (have.empty() ? "" : ", ") + std::string(to_string(k));
+  detail::fail_argument("solver", "'" + std::string(to_string(kind)) + "' (" + solver_requirement_text(kind) + ")",
+                        have);
 }
 
-/// \throws std::invalid_argument for an unknown name, or a known one this program lacks (the
-/// message says what it needs: a header to include, or SuiteSparse).
-inline void require_available_solver(const std::string& name) {
-  const std::vector<std::string> available = available_solvers();
-  if (std::find(available.begin(), available.end(), name) != available.end()) return;
-  const std::vector<std::string> known = known_solvers();
-  const bool known_name = std::find(known.begin(), known.end(), name) != known.end();
-  fail_argument("solver", "'" + name + "'" + (known_name ? " (" + solver_requirement(name) + ")" : ""),
-                "one of " + joined(available));
-}
-}  // namespace detail
-
-/// A solver by name. \throws std::invalid_argument as detail::require_available_solver(), or if an
-/// opt-in solver is asked for with a scalar type other than double and float.
+/// A new solver of `kind`; `settings` configure the iterative ones.
+/// \throws InvalidParameter as require_solver_available(), or if an opt-in solver is asked for with
+/// a scalar type other than double and float.
 template <class Scalar = double>
-std::unique_ptr<LinearSolver<Scalar>> make_linear_solver(const std::string& name, const IterativeSettings& settings = {}) {
-  detail::require_available_solver(name);
-  if (name == "cg") return std::make_unique<PcgSolver<Scalar>>(settings);
-  if (name == "bicgstab") return std::make_unique<BicgstabSolver<Scalar>>(settings);
-#if defined(DRAPE_HAS_SUITESPARSE)
-  if (name == "cholmod") return std::make_unique<CholmodSolver<Scalar>>();
-  if (name == "umfpack") return std::make_unique<UmfpackSolver<Scalar>>();
-#endif
-  if (const detail::SolverFactory<Scalar> make = detail::registered_solver<Scalar>(name)) return make();
-  detail::fail_argument("solver", "'" + name + "' for this scalar type", "double or float");
+std::unique_ptr<LinearSolver<Scalar>> make_linear_solver(LinearSolverKind kind, const IterativeSettings& settings = {}) {
+  require_solver_available(kind);
+  const detail::SolverFactory<Scalar> make = detail::solver_factories<Scalar>()[static_cast<std::size_t>(kind)];
+  if (!make) detail::fail_argument("solver", "'" + std::string(to_string(kind)) + "' for this scalar type", "double or float");
+  return make(settings);
+}
+
+/// make_linear_solver() by name. \throws InvalidParameter for an unknown name, listing the names.
+template <class Scalar = double>
+std::unique_ptr<LinearSolver<Scalar>> make_linear_solver(std::string_view name, const IterativeSettings& settings = {}) {
+  return make_linear_solver<Scalar>(parse<LinearSolverKind>(name), settings);
 }
 
 }  // namespace drape

@@ -1,8 +1,8 @@
 #pragma once
 /// \file camera.hpp
-/// A camera that frames the cloth whatever the grid size: it fits a box that holds the flat
-/// starting cloth and the cloth hanging from its pins, seen from a chosen azimuth and elevation.
-/// The camera is fixed for a whole run so that motion reads as motion of the cloth.
+/// Cameras that frame the cloth whatever the grid size: frame_bounds() fits a box that holds the
+/// flat starting cloth and the cloth hanging from its pins (`--camera fixed`), seen from a chosen
+/// azimuth and elevation; FollowCamera re-frames the moving cloth every frame (`--camera follow`).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -155,11 +155,10 @@ class FollowCamera {
 
   /// The camera for `positions` (`3 x n`), `elapsed` s of simulated time after the previous call.
   template <class Scalar>
-  Camera update(const Matrix3X<Scalar>& positions, const std::vector<int>& pins, double elapsed) {
+  Camera update(const Matrix3X<Scalar>& positions, double elapsed) {
     constexpr float deg = 3.14159265358979f / 180.0f;
     Bounds b;
     for (Index i = 0; i < positions.cols(); ++i) b.extend(positions.col(i).template cast<float>());
-    (void)pins;  // pins are nodes, so already inside
     const float a = (!m_started || m_smoothing <= 0)
                         ? 1.0f
                         : 1.0f - std::exp(-float(std::max(elapsed, 0.0)) / m_smoothing);

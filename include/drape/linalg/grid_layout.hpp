@@ -1,7 +1,8 @@
 #pragma once
 /// \file grid_layout.hpp
-/// Where the block rows of a linear system sit on the cloth's structured lattice. Solvers that
-/// exploit the geometry (the multigrid preconditioner, multigrid.hpp) need it; the others ignore it.
+/// Where the block rows of a linear system sit on a structured `nx x ny` lattice (the cloth's grid).
+/// Solvers that exploit the geometry (the multigrid preconditioner, solvers/multigrid.hpp) need
+/// it; the others ignore it.
 
 #include <vector>
 

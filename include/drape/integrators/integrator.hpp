@@ -1,0 +1,84 @@
+#pragma once
+/// \file integrator.hpp
+/// What every time integrator shares: the cloth it advances, its time step (the integrator is the
+/// step's one owner: set at construction, changed with set_dt(), checked in one place) and
+/// `step(state)`. `IntegratorOptions` are the settings every integrator takes; the implicit one
+/// adds its own (implicit_euler.hpp). make_integrator.hpp builds one by kind.
+
+#include <array>
+#include <cstdint>
+
+#include "drape/core/cloth.hpp"
+#include "drape/core/enum_names.hpp"
+#include "drape/core/state.hpp"
+#include "drape/core/validation.hpp"
+#include "drape/integrators/step_status.hpp"
+
+namespace drape {
+
+enum class IntegratorKind : std::uint8_t {
+  Rk2 = 0,       ///< explicit midpoint rule (rk2.hpp)
+  Implicit = 1,  ///< linearised implicit Euler (implicit_euler.hpp)
+};
+
+template <>
+struct EnumNames<IntegratorKind> {
+  static constexpr const char* parameter = "integrator";
+  static constexpr std::array<EnumName<IntegratorKind>, 2> values{
+      {{IntegratorKind::Rk2, "rk2"}, {IntegratorKind::Implicit, "implicit"}}};
+};
+
+struct IntegratorOptions {
+  /// Time step (s). The default suits RK2 with the default springs (docs/parameters.md); the
+  /// implicit step is stable far beyond it.
+  double dt = 0.0005;
+  int threads = 0;  ///< 0 = all available
+
+  /// \throws InvalidParameter naming `dt` (finite and > 0) or `threads` (>= 0).
+  void validate() const {
+    detail::require_time_step(dt);
+    detail::require_at_least("threads", threads, 0);
+  }
+};
+
+template <class Scalar = double>
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  Integrator(const Integrator&) = delete;
+  Integrator& operator=(const Integrator&) = delete;
+
+  /// Advances `state` by dt(). On failure `state` is unchanged and the status says why.
+  /// \throws InvalidParameter if the state does not have one column per node of the cloth.
+  virtual StepStatus step(State<Scalar>& state) = 0;
+
+  /// The time step (s).
+  Scalar dt() const { return m_dt; }
+  /// \throws InvalidParameter naming `dt` unless it is finite and > 0.
+  void set_dt(Scalar dt) {
+    detail::require_time_step(dt);
+    m_dt = dt;
+  }
+  const Cloth<Scalar>& cloth() const { return *m_cloth; }
+
+ protected:
+  /// \throws InvalidParameter as IntegratorOptions::validate().
+  Integrator(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
+      : m_cloth(&cloth), m_dt((options.validate(), Scalar(options.dt))) {
+    set_dt(m_dt);  // the conversion to Scalar must not make it 0 or infinite
+  }
+
+  /// \throws InvalidParameter naming `state` unless it has one column per node.
+  void require_state_fits(const State<Scalar>& state) const {
+    const Index n = m_cloth->node_count();
+    if (state.positions.cols() != n || state.velocities.cols() != n)
+      detail::fail_argument("state", detail::to_text(state.positions.cols()) + " nodes",
+                            detail::to_text(n) + " nodes (the cloth's)");
+  }
+
+ private:
+  const Cloth<Scalar>* m_cloth;
+  Scalar m_dt;
+};
+
+}  // namespace drape

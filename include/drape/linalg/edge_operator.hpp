@@ -1,0 +1,135 @@
+#pragma once
+/// \file edge_operator.hpp
+/// A second form of a system matrix whose off-diagonal coupling comes in pairs of rows ("edges",
+/// e.g. the springs of a cloth):
+/// \f[ A = \mathrm{diag}(m_r) \otimes I_3 + \sum_e \begin{bmatrix} C_e & -C_e \\ -C_e & C_e \end{bmatrix}_{(a_e, b_e)}, \f]
+/// so that \f$ A p = m \circ p + \sum_e \pm C_e (p_{a_e} - p_{b_e}) \f$: one 3x3 product per edge
+/// instead of two per edge in block CSR, and about a third of the bytes. Solvers use it for the
+/// product when it is valid and they run on one thread (on a team it costs a barrier per colour).
+///
+/// - Structure (set once): the two block rows of every edge (-1 for an end that is not in the
+///   system: its unknowns are zero), the edges grouped in colours in which no two edges share a row
+///   (so threads scatter without races and in a fixed order), the diagonal `m_r` of every row.
+/// - Values (written by whoever assembles the system, e.g. JacobianAssembler): each edge's \f$ C_e \f$
+///   takes stride() scalars of values(): 9 (column-major) in general, 6 when every \f$ C_e \f$ is
+///   symmetric (lower triangle row by row, block3.hpp), a third fewer bytes. The writer then calls
+///   set_valid(); anything that changes the matrix otherwise must invalidate() it.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "drape/core/team.hpp"
+#include "drape/core/types.hpp"
+#include "drape/linalg/block3.hpp"
+
+namespace drape {
+
+template <class Scalar = double>
+class EdgeOperator {
+ public:
+  EdgeOperator() = default;
+  /// `edge_rows`: rows a_e, b_e of edge e at [2e], [2e + 1]; `colour_begin`: colour c holds edges
+  /// [colour_begin[c], colour_begin[c + 1]); `row_mass`: m_r of every row.
+  EdgeOperator(std::vector<int> edge_rows, std::vector<int> colour_begin, std::vector<Scalar> row_mass)
+      : m_edge_rows(std::move(edge_rows)),
+        m_colour_begin(std::move(colour_begin)),
+        m_row_mass(std::move(row_mass)),
+        m_values(9 * (m_edge_rows.size() / 2), Scalar(0)) {}
+
+  int rows() const { return static_cast<int>(m_row_mass.size()); }
+  int edge_count() const { return static_cast<int>(m_edge_rows.size() / 2); }
+  const std::vector<int>& edge_rows() const { return m_edge_rows; }
+  const std::vector<int>& colour_begin() const { return m_colour_begin; }
+  const std::vector<Scalar>& row_mass() const { return m_row_mass; }
+
+  /// True if the values describe the current matrix (see the file comment).
+  bool valid() const { return m_valid; }
+  /// True if every C_e is stored as 6 values (symmetric).
+  bool symmetric() const { return m_symmetric; }
+  /// Scalars per edge in values(): 6 or 9.
+  int stride() const { return m_symmetric ? 6 : 9; }
+  /// Room for 9 scalars per edge; see stride().
+  Scalar* values() { return m_values.data(); }
+  const Scalar* values() const { return m_values.data(); }
+  /// Declares the values current; `symmetric`: they are stored as 6 per edge. An operator without
+  /// structure never becomes valid.
+  void set_valid(bool symmetric) {
+    m_valid = !m_edge_rows.empty() || !m_row_mass.empty();
+    m_symmetric = symmetric;
+  }
+  void invalidate() { m_valid = false; }
+
+  /// `y = A x` over `threads` threads; the result does not depend on the thread count.
+  void multiply(const Scalar* x, Scalar* y, int threads = 1) const {
+    run_in_team(threads, [&] { multiply_in_team(x, y); });
+  }
+  /// multiply() for the calling thread's share of a team already running (or serially); the team
+  /// waits at the end.
+  void multiply_in_team(const Scalar* x, Scalar* y) const;
+
+ private:
+  /// `y += sum_e +-C_e (x_a - x_b)` over the edges in colour order.
+  template <bool Symmetric>
+  void add_edge_products(const Scalar* x, Scalar* y) const;
+
+  std::vector<int> m_edge_rows, m_colour_begin;
+  std::vector<Scalar> m_row_mass, m_values;
+  bool m_valid = false;
+  bool m_symmetric = false;
+};
+
+// ---------------------------------------------------------------------------------------------
+
+template <class Scalar>
+void EdgeOperator<Scalar>::multiply_in_team(const Scalar* x, Scalar* y) const {
+  const Scalar* mass = m_row_mass.data();
+  team_for(rows(), [&](int r) {
+    y[3 * r] = mass[r] * x[3 * r];
+    y[3 * r + 1] = mass[r] * x[3 * r + 1];
+    y[3 * r + 2] = mass[r] * x[3 * r + 2];
+  });
+  if (m_symmetric)
+    add_edge_products<true>(x, y);
+  else
+    add_edge_products<false>(x, y);
+}
+
+template <class Scalar>
+template <bool Symmetric>
+void EdgeOperator<Scalar>::add_edge_products(const Scalar* x, Scalar* y) const {
+  // Symmetric C is stored row by row (c00 c10 c11 c20 c21 c22), so the first two rows of C d are
+  // three 2-vector products (SSE2 for double) and the third a 2-vector dot plus one term.
+  using Vec2 = Eigen::Matrix<Scalar, 2, 1>;
+  using Vec2Map = Eigen::Map<Vec2>;
+  using ConstVec2Map = Eigen::Map<const Vec2>;
+  const int* er = m_edge_rows.data();
+  const Scalar* c = m_values.data();
+  const int colours = static_cast<int>(m_colour_begin.size()) - 1;
+  for (int k = 0; k < colours; ++k) {
+    team_for(m_colour_begin[k], m_colour_begin[k + 1], [&](int e) {
+      const int ra = er[2 * e], rb = er[2 * e + 1];
+      if constexpr (Symmetric) {
+        Vec2 d01 = Vec2::Zero();
+        Scalar d2 = 0;
+        if (ra >= 0) { d01 = ConstVec2Map(x + 3 * ra); d2 = x[3 * ra + 2]; }
+        if (rb >= 0) { d01 -= ConstVec2Map(x + 3 * rb); d2 -= x[3 * rb + 2]; }
+        const Scalar* m = c + 6 * e;
+        const ConstVec2Map row2(m + 3);  // (c20, c21) = (c02, c12)
+        const Vec2 t01 = ConstVec2Map(m) * d01[0] + ConstVec2Map(m + 1) * d01[1] + row2 * d2;
+        const Scalar t2 = row2.dot(d01) + m[5] * d2;
+        if (ra >= 0) { Vec2Map(y + 3 * ra) += t01; y[3 * ra + 2] += t2; }
+        if (rb >= 0) { Vec2Map(y + 3 * rb) -= t01; y[3 * rb + 2] -= t2; }
+      } else {
+        Scalar d[3] = {0, 0, 0};
+        if (ra >= 0) { d[0] = x[3 * ra]; d[1] = x[3 * ra + 1]; d[2] = x[3 * ra + 2]; }
+        if (rb >= 0) { d[0] -= x[3 * rb]; d[1] -= x[3 * rb + 1]; d[2] -= x[3 * rb + 2]; }
+        const std::array<Scalar, 3> t = block_times(c + 9 * e, d);
+        if (ra >= 0) { y[3 * ra] += t[0]; y[3 * ra + 1] += t[1]; y[3 * ra + 2] += t[2]; }
+        if (rb >= 0) { y[3 * rb] -= t[0]; y[3 * rb + 1] -= t[1]; y[3 * rb + 2] -= t[2]; }
+      }
+    });
+  }
+}
+
+}  // namespace drape

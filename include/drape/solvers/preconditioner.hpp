@@ -1,0 +1,46 @@
+#pragma once
+/// \file preconditioner.hpp
+/// The interface of the iterative solvers' preconditioners (block_jacobi.hpp, multigrid.hpp):
+/// \f$ z = B r \f$ with \f$ B \approx A^{-1} \f$ symmetric positive definite when A is, which is
+/// what CG needs. Everything runs inside the solver's thread team: each call is made by every
+/// thread of the team (or by the one thread of a serial solve).
+
+#include <array>
+#include <cstdint>
+
+#include "drape/core/enum_names.hpp"
+#include "drape/linalg/linear_system.hpp"
+
+namespace drape {
+
+/// Which preconditioner an iterative solver uses.
+enum class PreconditionerKind : std::uint8_t {
+  BlockJacobi = 0,  ///< inverse 3x3 diagonal blocks: needs nothing but the matrix
+  Multigrid = 1,    ///< geometric multigrid V-cycle on the lattice: needs LinearSystem::layout
+};
+
+template <>
+struct EnumNames<PreconditionerKind> {
+  static constexpr const char* parameter = "preconditioner";
+  static constexpr std::array<EnumName<PreconditionerKind>, 2> values{
+      {{PreconditionerKind::Multigrid, "multigrid"}, {PreconditionerKind::BlockJacobi, "block-jacobi"}}};
+};
+
+template <class Scalar = double>
+class Preconditioner {
+ public:
+  virtual ~Preconditioner() = default;
+  /// Set-up for systems with `system`'s pattern and layout (once; may allocate).
+  /// \throws InvalidParameter if the preconditioner cannot work on such systems.
+  virtual void analyze(const LinearSystem<Scalar>& system) = 0;
+  /// Takes the current values of `system` (same pattern as in analyze()). Returns false on every
+  /// thread if the preconditioner cannot be built from them (a singular block; for multigrid, a
+  /// coarse level that is not positive definite). The team waits at the end.
+  virtual bool update_in_team(const LinearSystem<Scalar>& system) = 0;
+  /// `z = B r` (system size() scalars each). `r` must be complete on entry; `z` is complete on
+  /// return (the team waits at the end). Constrained rows are not treated specially: the solver
+  /// filters z afterwards.
+  virtual void apply_in_team(const Scalar* r, Scalar* z) = 0;
+};
+
+}  // namespace drape
