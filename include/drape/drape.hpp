@@ -3,7 +3,8 @@
 /// Umbrella header: everything in the header-only core except the opt-in and optional solvers
 /// (solvers/enable_ldlt.hpp, enable_lu.hpp; cholmod.hpp and umfpack.hpp with SuiteSparse).
 /// Include single headers to compile faster. The groups below are the layers, each using only
-/// the ones above it (docs/architecture.md).
+/// the ones above it (drape's architecture.md). The pages the headers cite as "drape's X.md" are
+/// in docs/ of the source and in share/doc/drape of an installation.
 
 #include "drape/config.hpp"
 #include "drape/fwd.hpp"

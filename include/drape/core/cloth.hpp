@@ -18,7 +18,7 @@ namespace drape {
 
 /// Everything that defines a scene. Defaults: the course model's cloth (33 x 33 nodes, 0.1 m apart,
 /// 0.03 kg each, g = 10 m/s^2, two corners pinned) with the spring constants chosen in
-/// docs/parameters.md.
+/// drape's parameters.md.
 template <class Scalar = double>
 struct ClothSpec {
   int nx = 33;

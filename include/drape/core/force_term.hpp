@@ -3,9 +3,9 @@
 /// A force on the cloth's nodes besides its springs and gravity (air drag, wind, a user's field):
 /// the one place a new force plugs in. Put terms into `ClothSpec::force_terms`; the explicit and
 /// implicit integrators, the Newton iteration and the diagnostics (pin reactions) then include
-/// them, and none of them has to change for a new term (docs/architecture.md).
+/// them, and none of them has to change for a new term (drape's architecture.md).
 ///
-/// Sign convention (docs/conventions.md): a term adds its force \f$ f \f$; its derivative blocks
+/// Sign convention (drape's conventions.md): a term adds its force \f$ f \f$; its derivative blocks
 /// are \f$ \partial f_a / \partial x_b \f$ and \f$ \partial f_a / \partial v_b \f$, the negative
 /// Hessian for a conservative term. The implicit step forms
 /// \f$ A \mathrel{-}= \Delta t\, \partial f/\partial v + \Delta t^2\, \partial f/\partial x \f$ and

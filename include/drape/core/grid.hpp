@@ -2,7 +2,7 @@
 /// \file grid.hpp
 /// The cloth's topology and rest geometry: an `nx x ny` lattice of mass points.
 ///
-/// Conventions (docs/conventions.md): node `(i, j)` has id `j * nx + i`, `i` runs along +x,
+/// Conventions (drape's conventions.md): node `(i, j)` has id `j * nx + i`, `i` runs along +x,
 /// `j` along +z, y is up. At rest the grid is flat and horizontal at height 0:
 /// \f$ x_{(i,j)} = (i h, 0, j h) \f$ with spacing \f$h\f$.
 
@@ -25,7 +25,7 @@ template <class Scalar = double>
 class Grid {
  public:
   /// Largest grid: node ids and DOF indices are `int`, and this keeps a cloth's memory in the
-  /// gigabytes (the largest size measured is 257 x 257, docs/benchmarks.md).
+  /// gigabytes (the largest size measured is 257 x 257, drape's benchmarks.md).
   static constexpr int max_nodes_per_side = 10000;
   static constexpr long long max_nodes = 16'000'000;
 

@@ -4,7 +4,7 @@
 ///
 /// Springs are stored in *colours*: contiguous ranges in which no two springs share a node, so a
 /// colour's springs can be processed by several threads without write races and with the same
-/// summation order per node whatever the thread count (docs/conventions.md, "Determinism").
+/// summation order per node whatever the thread count (drape's conventions.md, "Determinism").
 
 #include <array>
 #include <cstdint>

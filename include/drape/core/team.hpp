@@ -40,7 +40,7 @@ inline int max_threads() {
 }
 
 /// `requested` threads (0 = max_threads()), but only as many as have `min_work_per_thread` items
-/// each: below that, waking a second thread costs more than it saves (docs/benchmarks.md).
+/// each: below that, waking a second thread costs more than it saves (drape's benchmarks.md).
 inline int effective_threads(int requested, long long work_items, long long min_work_per_thread) {
   int t = requested > 0 ? requested : max_threads();
   if (t > max_threads()) t = max_threads();

@@ -8,7 +8,7 @@
 /// see PinTreatment). The path of a step: JacobianAssembler fills a LinearSystem (matrix, edge
 /// operator, lattice layout, constraints, b), the linear solver solves it, the step commits.
 /// The Jacobian variant and the linear solver are chosen at run time (ImplicitOptions), or the
-/// caller hands over a solver object; docs/implicit.md has the derivation and the measurements
+/// caller hands over a solver object; drape's implicit.md has the derivation and the measurements
 /// behind the defaults.
 ///
 /// A step that fails (solver failure, matrix not positive definite, no convergence, non-finite
@@ -33,13 +33,13 @@ namespace drape {
 /// The implicit integrator's settings: the time step and threads of every integrator, plus its own.
 struct ImplicitOptions : IntegratorOptions {
   /// Spd: symmetric positive definite system for any deformation; measured the fastest and the
-  /// most robust (docs/implicit.md, "Default Jacobian").
+  /// most robust (drape's implicit.md, "Default Jacobian").
   JacobianVariant jacobian = JacobianVariant::Spd;
   /// cg was the fastest at every size measured at dt <= 1/60; direct solvers win only for very
-  /// large dt (docs/implicit.md, "Default solver"). See solvers/solver_kind.hpp.
+  /// large dt (drape's implicit.md, "Default solver"). See solvers/solver_kind.hpp.
   LinearSolverKind solver = LinearSolverKind::Cg;
   /// Preconditioner of cg (bicgstab always uses block Jacobi; direct solvers none). Multigrid
-  /// needs ~10 iterations where block Jacobi needs 120-190 at dt = 1/60 (docs/implicit.md,
+  /// needs ~10 iterations where block Jacobi needs 120-190 at dt = 1/60 (drape's implicit.md,
   /// "Multigrid preconditioner").
   PreconditionerKind preconditioner = PreconditionerKind::Multigrid;
   double tolerance = 1e-6;    ///< relative residual |S(b - A dv)| / |S b| of iterative solvers

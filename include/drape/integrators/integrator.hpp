@@ -29,7 +29,7 @@ struct EnumNames<IntegratorKind> {
 };
 
 struct IntegratorOptions {
-  /// Time step (s). The default suits RK2 with the default springs (docs/parameters.md); the
+  /// Time step (s). The default suits RK2 with the default springs (drape's parameters.md); the
   /// implicit step is stable far beyond it.
   double dt = 0.0005;
   int threads = 0;  ///< 0 = all available

@@ -4,7 +4,7 @@
 /// \f[ q_{t+1} = q_t + \Delta t\, F\!\left(q_t + \tfrac{\Delta t}{2} F(q_t)\right), \quad
 ///     q = (x, v), \quad F(q) = (v,\; M^{-1} f(x, v)). \f]
 /// Pinned nodes are reset to their position and zero velocity after each stage, so they never move.
-/// Conditionally stable: see docs/parameters.md for the largest stable dt.
+/// Conditionally stable: see drape's parameters.md for the largest stable dt.
 ///
 /// One step is one parallel region with four barriers: spring pass at q, node pass fused with the
 /// midpoint update, spring pass at the midpoint, node pass fused with the final update and the

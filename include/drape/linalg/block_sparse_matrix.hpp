@@ -6,7 +6,7 @@
 /// Block k is stored as 9 contiguous scalars, column-major (an `Eigen::Map<Mat3>`, block3.hpp).
 /// The pattern is built once; values are overwritten in place every step. Compared with scalar CSR
 /// this stores one column index per 9 values, so a mat-vec reads about 2.5x fewer bytes
-/// (docs/implicit.md).
+/// (drape's implicit.md).
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,6 @@
 #pragma once
 /// \file spring_jacobian.hpp
-/// Per-spring 3x3 derivative blocks of the damped spring force (docs/implicit.md derives them).
+/// Per-spring 3x3 derivative blocks of the damped spring force (drape's implicit.md derives them).
 ///
 /// With \f$ d = x_b - x_a \f$, \f$ L = |d| \f$, \f$ u = d/L \f$, \f$ P = I - u u^T \f$,
 /// \f$ w = v_b - v_a \f$ and \f$ f_a = \varphi u \f$, \f$ \varphi = k_s (L - l) + k_d\, w \cdot u \f$:

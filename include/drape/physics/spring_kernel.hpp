@@ -1,6 +1,7 @@
 #pragma once
 /// \file spring_kernel.hpp
-/// Per-spring kernels (no assembly): the brief's damped spring, equation (2).
+/// Per-spring kernels (no assembly): the damped spring of the mass-spring cloth model (structural,
+/// shear and bend springs, Provot 1995, "Deformation constraints in a mass-spring model").
 ///
 /// With \f$ d = x_b - x_a \f$, \f$ L = |d| \f$, \f$ u = d / L \f$, \f$ w = v_b - v_a \f$, rest length
 /// \f$ l \f$, stiffness \f$ k_s \f$ and damping \f$ k_d \f$:

@@ -7,11 +7,11 @@
 /// defines DRAPE_HAS_SUITESPARSE and links CHOLMOD, UMFPACK and OpenBLAS). CHOLMOD's supernodal
 /// module is GPL: programs that link it are bound by the GPL; the header-only core is not.
 ///
-/// Configuration (measured in docs/implicit.md): the symbolic analysis (ordering + elimination
+/// Configuration (measured in drape's implicit.md): the symbolic analysis (ordering + elimination
 /// tree + supernodes) runs once per cloth; each step only refactorises numerically and solves.
 /// The ordering is fixed to one method (AMD by default) instead of CHOLMOD's default of trying
 /// several; OpenBLAS is pinned to one thread, because the pthread build keeps its threads
-/// spinning after each call and starves drape's own threads (docs/implicit.md).
+/// spinning after each call and starves drape's own threads (drape's implicit.md).
 
 #if !defined(DRAPE_HAS_SUITESPARSE)
 #error "drape/solvers/cholmod.hpp needs SuiteSparse: link the CMake target drape::suitesparse"

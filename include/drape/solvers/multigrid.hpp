@@ -6,7 +6,7 @@
 /// condition number grows with ks dt^2 / m and with the grid; block-Jacobi CG needed 120-190
 /// iterations at dt = 1/60 with the default springs. Jacobi only damps the rough part of the
 /// error; the V-cycle removes the smooth part on coarser lattices, so CG needs about ten iterations
-/// at every grid size (docs/implicit.md, "Multigrid preconditioner").
+/// at every grid size (drape's implicit.md, "Multigrid preconditioner").
 ///
 /// - Levels, transfer operators and Galerkin coarse operators: multigrid_hierarchy.hpp.
 /// - Smoother: block Jacobi (block_jacobi.hpp) with weight `omega`, `sweeps` times before and after

@@ -17,7 +17,7 @@
 /// summed per thread over a fixed row range, then the per-thread partials are added in thread
 /// order. Results therefore depend on the thread count but never on scheduling. On one thread the
 /// product with A uses the edge form when it is valid (fewer bytes); a team uses block rows, which
-/// need one barrier instead of one per edge colour (docs/implicit.md).
+/// need one barrier instead of one per edge colour (drape's implicit.md).
 
 #include <algorithm>
 #include <array>
