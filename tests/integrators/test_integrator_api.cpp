@@ -17,17 +17,19 @@
 
 using namespace drape;
 
-// An integrator or assembler keeps a reference to its cloth: built on a temporary it would dangle,
-// so that does not compile.
-static_assert(!std::is_constructible_v<Rk2d, Clothd&&>);
-static_assert(!std::is_constructible_v<Rk2d, Clothd&&, IntegratorOptions>);
-static_assert(!std::is_constructible_v<ImplicitEulerd, Clothd&&>);
-static_assert(!std::is_constructible_v<ImplicitEulerd, Clothd&&, ImplicitOptions>);
-static_assert(!std::is_constructible_v<ForceAssembler<double>, Clothd&&>);
-static_assert(!std::is_constructible_v<JacobianAssemblerd, Clothd&&>);
-static_assert(std::is_constructible_v<Rk2d, const Clothd&>);
-static_assert(std::is_constructible_v<ImplicitEulerd, Clothd&, ImplicitOptions>);
-static_assert(!std::is_copy_constructible_v<Rk2d>);
+TEST_CASE("no integrator or assembler can be built on a temporary cloth", "[integrator][lifetime]") {
+  // They keep a reference to their cloth: built on a temporary it would dangle, so the rvalue
+  // constructors are deleted (checked at run time so that a mutation shows up as a failed test).
+  CHECK_FALSE(std::is_constructible_v<Rk2d, Clothd&&>);
+  CHECK_FALSE(std::is_constructible_v<Rk2d, Clothd&&, IntegratorOptions>);
+  CHECK_FALSE(std::is_constructible_v<ImplicitEulerd, Clothd&&>);
+  CHECK_FALSE(std::is_constructible_v<ImplicitEulerd, Clothd&&, ImplicitOptions>);
+  CHECK_FALSE(std::is_constructible_v<ForceAssembler<double>, Clothd&&>);
+  CHECK_FALSE(std::is_constructible_v<JacobianAssemblerd, Clothd&&>);
+  CHECK(std::is_constructible_v<Rk2d, const Clothd&>);
+  CHECK(std::is_constructible_v<ImplicitEulerd, Clothd&, ImplicitOptions>);
+  CHECK_FALSE(std::is_copy_constructible_v<Rk2d>);
+}
 
 namespace {
 
