@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages drape needs, only those that are missing.
-#   scripts/install-deps.sh [test] [viewer] [bench] [fuzz]   (no argument: everything)
+#   scripts/install-deps.sh [test] [viewer] [bench] [fuzz] [tidy]   (no argument: everything)
 set -euo pipefail
 
 core=(g++ cmake ninja-build pkg-config libeigen3-dev)
@@ -8,9 +8,10 @@ test=(catch2 libsuitesparse-dev libopenblas-dev)
 viewer=(libosmesa6-dev libpng-dev libcli11-dev libtomlplusplus-dev libsuitesparse-dev libopenblas-dev)
 bench=(libbenchmark-dev libsuitesparse-dev libopenblas-dev python3 python3-matplotlib)
 fuzz=(clang libclang-rt-14-dev)
+tidy=(clang-tidy libsuitesparse-dev)
 
 groups=("$@")
-[ ${#groups[@]} -eq 0 ] && groups=(test viewer bench fuzz)
+[ ${#groups[@]} -eq 0 ] && groups=(test viewer bench fuzz tidy)
 wanted=("${core[@]}")
 for g in "${groups[@]}"; do
   case "$g" in
@@ -18,7 +19,8 @@ for g in "${groups[@]}"; do
     viewer) wanted+=("${viewer[@]}") ;;
     bench) wanted+=("${bench[@]}") ;;
     fuzz) wanted+=("${fuzz[@]}") ;;
-    *) echo "install-deps: unknown group '$g' (allowed: test viewer bench fuzz)" >&2; exit 2 ;;
+    tidy) wanted+=("${tidy[@]}") ;;
+    *) echo "install-deps: unknown group '$g' (allowed: test viewer bench fuzz tidy)" >&2; exit 2 ;;
   esac
 done
 

@@ -4,20 +4,34 @@
 
 namespace drape {
 
-template <class Scalar> class Grid;
-template <class Scalar> class SpringSet;
-template <class Scalar> struct State;
-template <class Scalar> struct ClothSpec;
-template <class Scalar> class Cloth;
-template <class Scalar> class ForceTerm;
-template <class Scalar> class ForceAssembler;
-template <class Scalar> class JacobianAssembler;
-template <class Scalar> class BlockSparseMatrix;
-template <class Scalar> struct LinearSystem;
-template <class Scalar> class LinearSolver;
-template <class Scalar> class Integrator;
-template <class Scalar> class Rk2;
-template <class Scalar> class ImplicitEuler;
+template <class Scalar>
+class Grid;
+template <class Scalar>
+class SpringSet;
+template <class Scalar>
+struct State;
+template <class Scalar>
+struct ClothSpec;
+template <class Scalar>
+class Cloth;
+template <class Scalar>
+class ForceTerm;
+template <class Scalar>
+class ForceAssembler;
+template <class Scalar>
+class JacobianAssembler;
+template <class Scalar>
+class BlockSparseMatrix;
+template <class Scalar>
+struct LinearSystem;
+template <class Scalar>
+class LinearSolver;
+template <class Scalar>
+class Integrator;
+template <class Scalar>
+class Rk2;
+template <class Scalar>
+class ImplicitEuler;
 class Pins;
 struct IntegratorOptions;
 struct ImplicitOptions;

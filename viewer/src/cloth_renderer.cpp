@@ -121,7 +121,8 @@ ClothRenderer::ClothRenderer(int nx, int ny, const std::vector<std::array<int, 3
   glBindVertexArray(m_vao);
   glGenBuffers(1, &m_dynamic_vbo);
   glBindBuffer(GL_ARRAY_BUFFER, m_dynamic_vbo);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_vertex_data.size() * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_vertex_data.size() * sizeof(float)), nullptr,
+               GL_DYNAMIC_DRAW);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(0));
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
   glEnableVertexAttribArray(0);
@@ -215,11 +216,14 @@ void ClothRenderer::update(const Eigen::Ref<const Eigen::Matrix3Xf>& x) {
   }
   for (int i = 0; i < m_node_count; ++i) {
     const float len = v.block<3, 1>(3, i).norm();
-    if (len > 0) v.block<3, 1>(3, i) /= len;
-    else v.block<3, 1>(3, i) = Eigen::Vector3f::UnitY();
+    if (len > 0)
+      v.block<3, 1>(3, i) /= len;
+    else
+      v.block<3, 1>(3, i) = Eigen::Vector3f::UnitY();
   }
   glBindBuffer(GL_ARRAY_BUFFER, m_dynamic_vbo);
-  glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(m_vertex_data.size() * sizeof(float)), m_vertex_data.data());
+  glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(m_vertex_data.size() * sizeof(float)),
+                  m_vertex_data.data());
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
@@ -289,7 +293,8 @@ Image ClothRenderer::render() {
   image.height = h;
   image.rgb.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
   for (int y = 0; y < h; ++y) {
-    const unsigned char* src = m_readback.data() + static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) * 4;
+    const unsigned char* src =
+        m_readback.data() + static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) * 4;
     unsigned char* dst = image.rgb.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w) * 3;
     for (int x = 0; x < w; ++x) {
       dst[3 * x] = src[4 * x];

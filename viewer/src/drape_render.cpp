@@ -64,8 +64,8 @@ void prepare_output_folder(const std::string& out) {
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec || !fs::is_directory(out))
-    stop(exit_runtime_error, "cannot create output folder '" + out + "': " +
-                                 (ec ? ec.message() : std::string("a file of that name exists")));
+    stop(exit_runtime_error, "cannot create output folder '" + out +
+                                 "': " + (ec ? ec.message() : std::string("a file of that name exists")));
   try {
     const std::string probe = out + "/.drape-render-probe";
     drape::write_file_atomically(probe, [](std::FILE* f) { return std::fputs("probe\n", f) >= 0; });
@@ -108,8 +108,10 @@ class FrameLog {
     if (!enabled) return;
     m_file = std::fopen(path.c_str(), "w");
     if (!m_file) stop(exit_runtime_error, "cannot write '" + path + "'");
-    std::fputs("frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,spring_energy,"
-               "gravity_energy,total_energy,max_strain,solver_iterations,max_residual\n", m_file);
+    std::fputs(
+        "frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,spring_energy,"
+        "gravity_energy,total_energy,max_strain,solver_iterations,max_residual\n",
+        m_file);
   }
   ~FrameLog() {
     if (m_file) std::fclose(m_file);
@@ -168,8 +170,8 @@ class Run {
   /// Frames 0 .. n-1 at t0 + k frame_time, rounded to whole steps: rendering speed does not matter.
   void offline() {
     const drape::render::TimeLine& t = m_s.time;
-    const int total = t.duration_given ? std::max(1, static_cast<int>(std::ceil(t.duration / t.frame_time - 1e-9)) + 1)
-                                       : t.frames;
+    const int total =
+        t.duration_given ? std::max(1, static_cast<int>(std::ceil(t.duration / t.frame_time - 1e-9)) + 1) : t.frames;
     m_total_frames = total;
     draw(m_state.positions, {});
     for (int k = 1; k < total; ++k) {
@@ -260,8 +262,8 @@ class Run {
     ++m_frame;
     const double simulated = m_state.time - m_t0;
     const double overall = wall > 0 ? simulated / wall : 0.0;
-    const double progress = m_s.time.duration_given && m_s.time.realtime ? simulated / m_s.time.duration
-                                                                         : double(m_frame) / m_total_frames;
+    const double progress =
+        m_s.time.duration_given && m_s.time.realtime ? simulated / m_s.time.duration : double(m_frame) / m_total_frames;
     const double eta = progress > 0 ? wall * (1 - progress) / progress : 0.0;
     m_progress.update(std::min(progress, 1.0), m_frame, m_state.time, overall, eta);
   }
@@ -292,8 +294,17 @@ bool make_video(const Settings& s, int frames_written) {
   const std::string ext = s.output.video.substr(s.output.video.rfind('.'));
   char fps[32];
   std::snprintf(fps, sizeof fps, "%.6g", 1.0 / s.time.frame_time);
-  std::vector<std::string> args = {"ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", fps,
-                                   "-i", s.output.out + "/frame_%05d.png", "-frames:v", std::to_string(frames_written)};
+  std::vector<std::string> args = {"ffmpeg",
+                                   "-nostdin",
+                                   "-y",
+                                   "-loglevel",
+                                   "error",
+                                   "-framerate",
+                                   fps,
+                                   "-i",
+                                   s.output.out + "/frame_%05d.png",
+                                   "-frames:v",
+                                   std::to_string(frames_written)};
   if (ext == ".gif") {
     args.insert(args.end(), {"-vf", "split[a][b];[a]palettegen[p];[b][p]paletteuse"});
   } else if (ext == ".webm") {
@@ -319,9 +330,7 @@ int run(const Settings& s) {
   if (!s.load_state.empty()) {
     try {
       start = drape::load_state<double>(s.load_state, cloth.node_count());
-    } catch (const drape::StateFormatError& e) {
-      stop(exit_bad_settings, std::string("--load-state: ") + e.what());
-    }
+    } catch (const drape::StateFormatError& e) { stop(exit_bad_settings, std::string("--load-state: ") + e.what()); }
   }
   prepare_output_folder(s.output.out);
 
@@ -357,9 +366,7 @@ int main(int argc, char** argv) {
   }
   try {
     return run(settings);
-  } catch (const Stop& s) {
-    return s.exit_code;
-  } catch (const std::invalid_argument& e) {
+  } catch (const Stop& s) { return s.exit_code; } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "drape-render: error: %s\n", e.what());
     return exit_bad_settings;
   } catch (const std::exception& e) {

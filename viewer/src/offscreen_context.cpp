@@ -37,7 +37,8 @@ const char* type_name(GLenum t) {
 void GLAPIENTRY debug_callback(GLenum, GLenum type, GLuint, GLenum severity, GLsizei length, const GLchar* message,
                                const void* user) {
   const auto* sink = static_cast<const GlDebugSink*>(user);
-  (*sink)(severity_name(severity), type_name(type), std::string(message, length >= 0 ? std::size_t(length) : std::char_traits<char>::length(message)));
+  (*sink)(severity_name(severity), type_name(type),
+          std::string(message, length >= 0 ? std::size_t(length) : std::char_traits<char>::length(message)));
 }
 
 }  // namespace
@@ -48,8 +49,17 @@ void print_gl_debug_message(const std::string& severity, const std::string& type
 }
 
 OffscreenContext::OffscreenContext(GlDebugSink debug_sink) : m_sink(std::move(debug_sink)) {
-  const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                         OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+  const int attribs[] = {OSMESA_FORMAT,
+                         OSMESA_RGBA,
+                         OSMESA_DEPTH_BITS,
+                         24,
+                         OSMESA_PROFILE,
+                         OSMESA_CORE_PROFILE,
+                         OSMESA_CONTEXT_MAJOR_VERSION,
+                         4,
+                         OSMESA_CONTEXT_MINOR_VERSION,
+                         5,
+                         0};
   OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, nullptr);
   if (!ctx) throw std::runtime_error("OSMesa could not create an OpenGL 4.5 core-profile context");
   m_context = ctx;

@@ -86,8 +86,8 @@ Enum parse_option(const std::string& text) {
   Enum value{};
   if (!drape::try_parse(text, value)) {
     const auto it = flag_of_parameter().find(drape::EnumNames<Enum>::parameter);
-    fail(it == flag_of_parameter().end() ? std::string(drape::EnumNames<Enum>::parameter) : it->second, "'" + text + "'",
-         drape::joined_names<Enum>(" | "));
+    fail(it == flag_of_parameter().end() ? std::string(drape::EnumNames<Enum>::parameter) : it->second,
+         "'" + text + "'", drape::joined_names<Enum>(" | "));
   }
   return value;
 }
@@ -106,7 +106,8 @@ T from_toml(const toml::node& n, const std::string& key, const std::string& file
   } else if constexpr (std::is_same_v<T, int>) {
     if (!n.is_integer()) bad_key(file, key, "must be an integer");
     const std::int64_t v = *n.value<std::int64_t>();
-    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) bad_key(file, key, "is out of range");
+    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+      bad_key(file, key, "is out of range");
     return static_cast<int>(v);
   } else if constexpr (std::is_same_v<T, bool>) {
     if (!n.is_boolean()) bad_key(file, key, "must be true or false");
@@ -144,7 +145,8 @@ class Bindings {
     else
       opt = m_app.add_option("--" + key, field, help);
     opt->group(group);
-    m_keys[key] = {opt, [&field, key](const toml::node& n, const std::string& file) { field = from_toml<T>(n, key, file); }};
+    m_keys[key] = {opt,
+                   [&field, key](const toml::node& n, const std::string& file) { field = from_toml<T>(n, key, file); }};
     return opt;
   }
 
@@ -249,12 +251,15 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   bind.name("integrator", s.integrator, "rk2 (explicit midpoint) | implicit (linearised implicit Euler)", sim);
   bind.name("jacobian", i.jacobian, "implicit: " + drape::joined_names<drape::JacobianVariant>(" | "), sim);
   std::string solvers;
-  for (drape::LinearSolverKind k : drape::available_solvers()) solvers += (solvers.empty() ? "" : " | ") + std::string(drape::to_string(k));
+  for (drape::LinearSolverKind k : drape::available_solvers())
+    solvers += (solvers.empty() ? "" : " | ") + std::string(drape::to_string(k));
   bind.name("solver", i.solver, "implicit: linear solver, one of " + solvers, sim);
   bind.value("tolerance", i.tolerance, "implicit: relative residual of iterative solvers, (0, 1)", sim);
   bind.value("max-iterations", i.max_iterations, "implicit: iteration cap of iterative solvers, >= 1", sim);
-  bind.name("pin-treatment", i.pin_treatment, "implicit: " + drape::joined_names<drape::PinTreatment>(" | ") + " (pinned DOFs)", sim);
-  bind.name("preconditioner", i.preconditioner, "implicit, cg: " + drape::joined_names<drape::PreconditionerKind>(" | "), sim);
+  bind.name("pin-treatment", i.pin_treatment,
+            "implicit: " + drape::joined_names<drape::PinTreatment>(" | ") + " (pinned DOFs)", sim);
+  bind.name("preconditioner", i.preconditioner,
+            "implicit, cg: " + drape::joined_names<drape::PreconditionerKind>(" | "), sim);
   bind.value("dt", i.dt, "time step in s, > 0 and <= --frame-time", sim);
   bind.value("structural-ks", c.springs.structural.stiffness, "structural stiffness in N/m, >= 0", sim);
   bind.value("structural-kd", c.springs.structural.damping, "structural damping in N s/m, >= 0", sim);
@@ -279,11 +284,13 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
 
   const char* time = "Time line";
   CLI::Option* frames = bind.value("frames", s.time.frames, "frames to render, [1, 10000000]", time);
-  CLI::Option* duration =
-      bind.value("duration", s.time.duration, "simulated seconds to render instead of --frames, > 0 (unset: use --frames)", time);
+  CLI::Option* duration = bind.value(
+      "duration", s.time.duration, "simulated seconds to render instead of --frames, > 0 (unset: use --frames)", time);
   bind.value("frame-time", s.time.frame_time, "simulated seconds per frame, (0, 10]", time);
-  bind.value("realtime", s.time.realtime, "pace the simulation against the wall clock (frames render as fast as they can)", time);
-  bind.value("realtime-factor", s.realtime.realtime_factor, "realtime: simulated seconds per wall-clock second, > 0", time);
+  bind.value("realtime", s.time.realtime,
+             "pace the simulation against the wall clock (frames render as fast as they can)", time);
+  bind.value("realtime-factor", s.realtime.realtime_factor, "realtime: simulated seconds per wall-clock second, > 0",
+             time);
   bind.value("max-steps-per-frame", s.realtime.max_steps_per_frame,
              "realtime: cap on steps per frame, [1, 100000000]; time beyond it is dropped", time);
 
@@ -293,7 +300,8 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   bind.value("width", o.width, "image width in pixels, [16, 8192]", output);
   bind.value("height", o.height, "image height in pixels, [16, 8192]", output);
   bind.value("samples", o.samples, "multisample anti-aliasing samples, [1, 16]", output);
-  bind.name("camera", o.camera, "follow: frame the cloth every frame (smoothed); fixed: frame where it can hang, once", output);
+  bind.name("camera", o.camera, "follow: frame the cloth every frame (smoothed); fixed: frame where it can hang, once",
+            output);
   bind.value("azimuth", o.azimuth, "camera azimuth in degrees (0 = from +z, 90 = from +x)", output);
   bind.value("elevation", o.elevation, "camera elevation in degrees, [-85, 85] (< 0: from below)", output);
   bind.value("no-floor", o.no_floor, "do not draw the floor and the cloth's shadow", output);

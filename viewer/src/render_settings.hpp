@@ -55,9 +55,9 @@ struct Settings {
   std::string scene;       ///< TOML file with the same keys as the flags
   std::string load_state;  ///< start from this saved state
 
-  drape::ClothSpecd cloth;                 ///< the scene (library defaults)
+  drape::ClothSpecd cloth;  ///< the scene (library defaults)
   drape::IntegratorKind integrator = drape::IntegratorKind::Rk2;
-  drape::ImplicitOptions stepping;         ///< dt and threads (every integrator), the implicit options
+  drape::ImplicitOptions stepping;  ///< dt and threads (every integrator), the implicit options
   /// The driver's settings; the viewer caps at 200 steps per frame (the library's default is 64).
   drape::RealtimeSettings realtime{1.0, 200};
 

@@ -23,9 +23,9 @@ template <class Scalar = double>
 struct ClothSpec {
   int nx = 33;
   int ny = 33;
-  Scalar spacing = Scalar(0.1);    ///< m
-  Scalar node_mass = Scalar(0.03); ///< kg
-  Scalar gravity = Scalar(10);     ///< m/s^2, acting along -y
+  Scalar spacing = Scalar(0.1);     ///< m
+  Scalar node_mass = Scalar(0.03);  ///< kg
+  Scalar gravity = Scalar(10);      ///< m/s^2, acting along -y
   SpringCoefficients<Scalar> springs = default_springs();
   BoundaryCondition boundary = BoundaryCondition::TwoCorners;
   /// If set, these node ids are pinned instead of the `boundary` preset.

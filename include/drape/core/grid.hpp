@@ -68,8 +68,8 @@ template <class Scalar>
 void Grid<Scalar>::validate(int nx, int ny, Scalar spacing, Scalar node_mass) {
   const long long nodes = static_cast<long long>(nx) * ny;
   if (nodes > max_nodes) detail::fail_argument("nx * ny", detail::to_text(nodes), "<= " + detail::to_text(max_nodes));
-  const std::string side = "[2, " + detail::to_text(max_nodes_per_side) + "]: >= 2 and <= " +
-                           detail::to_text(max_nodes_per_side) + " nodes per side";
+  const std::string side = "[2, " + detail::to_text(max_nodes_per_side) +
+                           "]: >= 2 and <= " + detail::to_text(max_nodes_per_side) + " nodes per side";
   if (nx < 2 || nx > max_nodes_per_side) detail::fail_argument("nx", detail::to_text(nx), side);
   if (ny < 2 || ny > max_nodes_per_side) detail::fail_argument("ny", detail::to_text(ny), side);
   detail::require_positive_finite("spacing", spacing);
@@ -86,7 +86,8 @@ template <class Scalar>
 Matrix3X<Scalar> Grid<Scalar>::rest_positions() const {
   Matrix3X<Scalar> x(3, node_count());
   for (int j = 0; j < m_ny; ++j)
-    for (int i = 0; i < m_nx; ++i) x.col(node(i, j)) = Vec3<Scalar>(Scalar(i) * m_spacing, Scalar(0), Scalar(j) * m_spacing);
+    for (int i = 0; i < m_nx; ++i)
+      x.col(node(i, j)) = Vec3<Scalar>(Scalar(i) * m_spacing, Scalar(0), Scalar(j) * m_spacing);
   return x;
 }
 

@@ -121,13 +121,12 @@ SpringSet<Scalar>::SpringSet(const Grid<Scalar>& grid, const SpringCoefficients<
     C category;
   };
   const Family families[] = {
-      {1, 0, 0, true, 1, C::Structural},  {0, 1, 0, false, 1, C::Structural},
-      {1, 1, 0, true, 1, C::Shear},       {-1, 1, 1, true, 1, C::Shear},
-      {2, 0, 0, true, 2, C::Bend},        {0, 2, 0, false, 2, C::Bend},
+      {1, 0, 0, true, 1, C::Structural}, {0, 1, 0, false, 1, C::Structural}, {1, 1, 0, true, 1, C::Shear},
+      {-1, 1, 1, true, 1, C::Shear},     {2, 0, 0, true, 2, C::Bend},        {0, 2, 0, false, 2, C::Bend},
   };
-  const std::size_t expected = static_cast<std::size_t>(2 * (nx - 1) * ny + 2 * nx * (ny - 1) +
-                                                        2 * (nx - 1) * (ny - 1)) +
-                               static_cast<std::size_t>(std::max(0, nx - 2) * ny + nx * std::max(0, ny - 2));
+  const std::size_t expected =
+      static_cast<std::size_t>(2 * (nx - 1) * ny + 2 * nx * (ny - 1) + 2 * (nx - 1) * (ny - 1)) +
+      static_cast<std::size_t>(std::max(0, nx - 2) * ny + nx * std::max(0, ny - 2));
   m_a.reserve(expected);
   m_b.reserve(expected);
   m_rest_length.reserve(expected);

@@ -42,11 +42,11 @@ namespace detail {
 /// `T` in a parameter list without taking part in template argument deduction (std::type_identity
 /// of C++20), so `f(const Cloth<S>&, ConstRef3X<S>)` deduces S from the cloth alone.
 template <class T>
-struct non_deduced {
+struct NonDeduced {
   using type = T;
 };
 template <class T>
-using non_deduced_t = typename non_deduced<T>::type;
+using NonDeducedT = typename NonDeduced<T>::type;
 }  // namespace detail
 
 }  // namespace drape

@@ -84,10 +84,12 @@ class ImplicitEuler final : public Integrator<Scalar> {
   /// With a linear solver the caller made (`options.solver` is ignored).
   /// \throws InvalidParameter as ImplicitOptions::validate_except_solver(), if `solver` is null, or
   /// if its capabilities() do not fit the options (require_solver_fits()).
-  ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options, std::unique_ptr<LinearSolver<Scalar>> solver);
+  ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitOptions& options,
+                std::unique_ptr<LinearSolver<Scalar>> solver);
   /// The integrator keeps a reference to the cloth: a temporary would dangle.
   ImplicitEuler(const Cloth<Scalar>&& cloth, const ImplicitOptions& options = {}) = delete;
-  ImplicitEuler(const Cloth<Scalar>&& cloth, const ImplicitOptions& options, std::unique_ptr<LinearSolver<Scalar>>) = delete;
+  ImplicitEuler(const Cloth<Scalar>&& cloth, const ImplicitOptions& options,
+                std::unique_ptr<LinearSolver<Scalar>>) = delete;
 
   StepStatus step(State<Scalar>& state) override;
 

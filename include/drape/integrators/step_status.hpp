@@ -10,10 +10,10 @@ namespace drape {
 
 enum class StepError : std::uint8_t {
   None = 0,
-  NonFiniteState,      ///< the new state would contain NaN or Inf (diverged, or a zero-length spring)
-  NotPositiveDefinite, ///< the linear solver found the system matrix not positive definite
-  NoConvergence,       ///< the iterative solver hit its iteration cap above tolerance
-  SolverFailure,       ///< any other failure of the linear solver
+  NonFiniteState,       ///< the new state would contain NaN or Inf (diverged, or a zero-length spring)
+  NotPositiveDefinite,  ///< the linear solver found the system matrix not positive definite
+  NoConvergence,        ///< the iterative solver hit its iteration cap above tolerance
+  SolverFailure,        ///< any other failure of the linear solver
 };
 
 inline const char* to_string(StepError e) {
@@ -41,8 +41,8 @@ inline StepError step_error(SolveError e) {
 
 struct StepStatus {
   StepError error = StepError::None;
-  int iterations = 0;      ///< linear-solver iterations (0 for direct solvers and RK2)
-  double residual = 0.0;   ///< final relative residual of the linear solve (0 for RK2)
+  int iterations = 0;     ///< linear-solver iterations (0 for direct solvers and RK2)
+  double residual = 0.0;  ///< final relative residual of the linear solve (0 for RK2)
 
   bool ok() const { return error == StepError::None; }
   explicit operator bool() const { return ok(); }

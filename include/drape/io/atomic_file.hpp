@@ -51,8 +51,7 @@ inline void write_file_atomically(const std::string& path, const std::function<b
   }
   if (!ok) {
     std::remove(tmp.c_str());
-    throw FileWriteError("cannot write '" + path + "': " +
-                         (saved_errno ? std::strerror(saved_errno) : "write failed"));
+    throw FileWriteError("cannot write '" + path + "': " + (saved_errno ? std::strerror(saved_errno) : "write failed"));
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     const int e = errno;

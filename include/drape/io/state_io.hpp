@@ -126,15 +126,14 @@ State<Scalar> load_state(const std::string& path, int expected_nodes) {
     next("'" + key + " ...'");
     std::istringstream ls(line);
     std::string k, value, extra;
-    if (!(ls >> k >> value) || k != key || (ls >> extra))
-      fail("expected '" + key + " <value>', found '" + line + "'");
+    if (!(ls >> k >> value) || k != key || (ls >> extra)) fail("expected '" + key + " <value>', found '" + line + "'");
     return value;
   };
 
   const std::string magic = header("drape-state");
   if (magic != std::to_string(state_format_version))
-    fail("unsupported format version " + magic + " (this build reads version " +
-         std::to_string(state_format_version) + ")");
+    fail("unsupported format version " + magic + " (this build reads version " + std::to_string(state_format_version) +
+         ")");
   const std::string scalar = header("scalar");
   if (scalar != "float" && scalar != "double") fail("scalar must be 'float' or 'double', found '" + scalar + "'");
   const bool file_is_float = scalar == "float";
@@ -175,7 +174,8 @@ State<Scalar> load_state(const std::string& path, int expected_nodes) {
     double v[6];
     for (int c = 0; c < 6; ++c) {
       if (!(ls >> token)) {
-        if (in.eof()) fail("file ends early (truncated) inside node " + std::to_string(i) + " of " + std::to_string(nodes));
+        if (in.eof())
+          fail("file ends early (truncated) inside node " + std::to_string(i) + " of " + std::to_string(nodes));
         fail("node " + std::to_string(i) + ": expected 6 numbers (x y z vx vy vz), found " + std::to_string(c));
       }
       if (!detail::parse_scalar(token, file_is_float, v[c]))
@@ -188,7 +188,8 @@ State<Scalar> load_state(const std::string& path, int expected_nodes) {
     }
   }
   next("'end' after " + std::to_string(nodes) + " nodes");
-  if (line != "end") fail("expected 'end' after " + std::to_string(nodes) + " nodes, found '" + line + "' (more nodes than declared?)");
+  if (line != "end")
+    fail("expected 'end' after " + std::to_string(nodes) + " nodes, found '" + line + "' (more nodes than declared?)");
   return state;
 }
 

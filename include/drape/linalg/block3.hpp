@@ -27,9 +27,12 @@ inline std::array<Scalar, 3> block_times(const Scalar* m, const Scalar* x) {
 /// The column-major block (9 scalars) of a symmetric block stored in 6 (see the file comment).
 template <class Scalar>
 inline void expand_symmetric_block(const Scalar* c, Scalar* full) {
+  // The 3x3 layout, row by row:
+  // clang-format off
   full[0] = c[0]; full[1] = c[1]; full[2] = c[3];
   full[3] = c[1]; full[4] = c[2]; full[5] = c[4];
   full[6] = c[3]; full[7] = c[4]; full[8] = c[5];
+  // clang-format on
 }
 
 /// `inverse` = the inverse of block `m` (both column-major); false if it is singular (the inverse

@@ -173,7 +173,8 @@ void BlockSparseMatrix<Scalar>::copy_values(Eigen::SparseMatrix<Real>& csc, cons
 
 template <class Scalar>
 Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> BlockSparseMatrix<Scalar>::to_dense() const {
-  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> d = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>::Zero(size(), size());
+  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> d =
+      Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>::Zero(size(), size());
   for (int r = 0; r < block_rows(); ++r)
     for (int k = m_row_begin[r]; k < m_row_begin[r + 1]; ++k) d.template block<3, 3>(3 * r, 3 * m_column[k]) = block(k);
   return d;

@@ -107,7 +107,9 @@ class ConstraintFilter {
     if (kind(row) == ConstraintKind::Free) return Mat3<Scalar>::Identity();
     return Eigen::Map<const Mat3<Scalar>>(m_filter.data() + 9 * static_cast<std::size_t>(row));
   }
-  Vec3<Scalar> value(int row) const { return Eigen::Map<const Vec3<Scalar>>(m_value.data() + 3 * static_cast<std::size_t>(row)); }
+  Vec3<Scalar> value(int row) const {
+    return Eigen::Map<const Vec3<Scalar>>(m_value.data() + 3 * static_cast<std::size_t>(row));
+  }
 
  private:
   void set(int row, ConstraintKind kind, const Mat3<Scalar>& filter, const Vec3<Scalar>& value) {

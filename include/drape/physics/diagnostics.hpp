@@ -21,7 +21,7 @@ Scalar kinetic_energy(const Cloth<Scalar>& cloth, const State<Scalar>& state) {
 
 /// \f$ \sum_s \tfrac12 k_s (L_s - l_s)^2 \f$ (J).
 template <class Scalar>
-Scalar spring_potential_energy(const Cloth<Scalar>& cloth, const detail::non_deduced_t<ConstRef3X<Scalar>>& x) {
+Scalar spring_potential_energy(const Cloth<Scalar>& cloth, const detail::NonDeducedT<ConstRef3X<Scalar>>& x) {
   const SpringSet<Scalar>& sp = cloth.springs();
   Scalar e = 0;
   for (int s = 0; s < sp.size(); ++s)
@@ -31,7 +31,7 @@ Scalar spring_potential_energy(const Cloth<Scalar>& cloth, const detail::non_ded
 
 /// \f$ -\sum_i m_i\, g \cdot x_i \f$ (J), zero at the rest height y = 0.
 template <class Scalar>
-Scalar gravitational_potential_energy(const Cloth<Scalar>& cloth, const detail::non_deduced_t<ConstRef3X<Scalar>>& x) {
+Scalar gravitational_potential_energy(const Cloth<Scalar>& cloth, const detail::NonDeducedT<ConstRef3X<Scalar>>& x) {
   return -(cloth.gravity().transpose() * x * cloth.grid().masses()).value();
 }
 
@@ -43,7 +43,7 @@ Scalar total_energy(const Cloth<Scalar>& cloth, const State<Scalar>& state) {
 
 /// Largest relative stretch \f$ \max_s (L_s - l_s) / l_s \f$ (negative if every spring is compressed).
 template <class Scalar>
-Scalar max_strain(const Cloth<Scalar>& cloth, const detail::non_deduced_t<ConstRef3X<Scalar>>& x) {
+Scalar max_strain(const Cloth<Scalar>& cloth, const detail::NonDeducedT<ConstRef3X<Scalar>>& x) {
   const SpringSet<Scalar>& sp = cloth.springs();
   Scalar worst = -std::numeric_limits<Scalar>::infinity();
   for (int s = 0; s < sp.size(); ++s) {

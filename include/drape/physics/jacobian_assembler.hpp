@@ -95,8 +95,8 @@ class JacobianAssembler {
   /// A spring incident on a block row; each row lists its springs in ascending order.
   struct Incidence {
     int spring;
-    int block;            // off-diagonal block (this row, other end); -1 if the other end is eliminated
-    int node_b;           // 1 if this row is the spring's node b (its right-hand side gets -g)
+    int block;   // off-diagonal block (this row, other end); -1 if the other end is eliminated
+    int node_b;  // 1 if this row is the spring's node b (its right-hand side gets -g)
   };
   /// The force terms' derivative blocks into a system: A -= dt dfdv + dt^2 dfdx, b += dt^2 dfdx v.
   class SystemTermBlocks;
@@ -124,10 +124,10 @@ class JacobianAssembler {
   std::vector<Incidence> m_incidence;
   mutable std::vector<Scalar> m_spring_rhs;  // g of every spring (3 each), written by pass 1
   BlockSparseMatrix<Scalar> m_pattern;
-  EdgeOperator<Scalar> m_edges;             // structure only
-  bool m_term_derivatives = false;          // some force term adds derivative blocks
-  std::vector<int> m_term_only_blocks;      // off-diagonal blocks only force terms write (zeroed first)
-  mutable Matrix3X<Scalar> m_term_forces;   // the force terms' total (3 x n; empty without terms)
+  EdgeOperator<Scalar> m_edges;            // structure only
+  bool m_term_derivatives = false;         // some force term adds derivative blocks
+  std::vector<int> m_term_only_blocks;     // off-diagonal blocks only force terms write (zeroed first)
+  mutable Matrix3X<Scalar> m_term_forces;  // the force terms' total (3 x n; empty without terms)
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -184,15 +184,19 @@ JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, PinTrea
   for (int s = 0; s < sp.size(); ++s) {
     const int ra = row(sp.a()[s]), rb = row(sp.b()[s]);
     const bool both = ra >= 0 && rb >= 0;
-    m_slots[static_cast<std::size_t>(s)] = {ra, rb, ra >= 0 ? m_pattern.diagonal()[static_cast<std::size_t>(ra)] : -1,
+    m_slots[static_cast<std::size_t>(s)] = {ra,
+                                            rb,
+                                            ra >= 0 ? m_pattern.diagonal()[static_cast<std::size_t>(ra)] : -1,
                                             rb >= 0 ? m_pattern.diagonal()[static_cast<std::size_t>(rb)] : -1,
-                                            both ? m_pattern.find(ra, rb) : -1, both ? m_pattern.find(rb, ra) : -1};
+                                            both ? m_pattern.find(ra, rb) : -1,
+                                            both ? m_pattern.find(rb, ra) : -1};
   }
   // Incidence lists, filled in ascending spring order.
   m_incidence_begin.assign(rows + 1, 0);
   for (const std::array<int, 6>& slot : m_slots)
     for (int side = 0; side < 2; ++side)
-      if (slot[static_cast<std::size_t>(side)] >= 0) ++m_incidence_begin[static_cast<std::size_t>(slot[static_cast<std::size_t>(side)]) + 1];
+      if (slot[static_cast<std::size_t>(side)] >= 0)
+        ++m_incidence_begin[static_cast<std::size_t>(slot[static_cast<std::size_t>(side)]) + 1];
   for (std::size_t r = 0; r < rows; ++r) m_incidence_begin[r + 1] += m_incidence_begin[r];
   m_incidence.resize(static_cast<std::size_t>(m_incidence_begin.back()));
   std::vector<int> next(m_incidence_begin.begin(), m_incidence_begin.end() - 1);
@@ -205,7 +209,8 @@ JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, PinTrea
       const int block = slot[4 + static_cast<std::size_t>(side)];
       if (block >= 0) {
         // Grid springs join distinct node pairs, so each off-diagonal block is one spring's -C.
-        DRAPE_ASSERT(!spring_block[static_cast<std::size_t>(block)], "JacobianAssembler: two springs join the same nodes");
+        DRAPE_ASSERT(!spring_block[static_cast<std::size_t>(block)],
+                     "JacobianAssembler: two springs join the same nodes");
         spring_block[static_cast<std::size_t>(block)] = 1;
       }
       m_incidence[static_cast<std::size_t>(next[static_cast<std::size_t>(r)]++)] = Incidence{s, block, side};
@@ -247,8 +252,10 @@ void JacobianAssembler<Scalar>::for_each_spring(Body&& body) const {
 
 template <class Scalar>
 void JacobianAssembler<Scalar>::assemble_system(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time,
-                                                Scalar dt, JacobianVariant variant, LinearSystem<Scalar>& system) const {
-  DRAPE_ASSERT(system.matrix.block_count() == m_pattern.block_count(), "assemble_system(): system not made by make_system()");
+                                                Scalar dt, JacobianVariant variant,
+                                                LinearSystem<Scalar>& system) const {
+  DRAPE_ASSERT(system.matrix.block_count() == m_pattern.block_count(),
+               "assemble_system(): system not made by make_system()");
   DRAPE_ASSERT(system.rhs.size() == 3 * system_nodes(), "assemble_system(): rhs has the wrong size");
   if (system.edges.edge_count() != m_edges.edge_count()) system.edges = m_edges;  // the caller dropped it: restore
   if (variant == JacobianVariant::Exact)
@@ -295,7 +302,8 @@ class JacobianAssembler<Scalar>::SystemTermBlocks final : public ForceDerivative
 template <class Scalar>
 class JacobianAssembler<Scalar>::JacobianTermBlocks final : public ForceDerivatives<Scalar> {
  public:
-  JacobianTermBlocks(const JacobianAssembler& assembler, BlockSparseMatrix<Scalar>& dfdx, BlockSparseMatrix<Scalar>& dfdv)
+  JacobianTermBlocks(const JacobianAssembler& assembler, BlockSparseMatrix<Scalar>& dfdx,
+                     BlockSparseMatrix<Scalar>& dfdv)
       : m_assembler(assembler), m_dfdx(dfdx), m_dfdv(dfdv) {}
   void add(int a, int b, const Mat3<Scalar>& dfdx, const Mat3<Scalar>& dfdv) override {
     const int block = m_assembler.term_block(m_dfdx, a, b);
@@ -316,7 +324,8 @@ void JacobianAssembler<Scalar>::add_terms(const ConstRef3X<Scalar>& x, const Con
   m_term_forces.setZero();
   for (const auto& term : m_cloth->force_terms()) term->add_force(x, v, time, m_term_forces);
   for (int r = 0; r < system_nodes(); ++r)
-    system.rhs.template segment<3>(3 * static_cast<Index>(r)) += dt * m_term_forces.col(m_node_of_row[static_cast<std::size_t>(r)]);
+    system.rhs.template segment<3>(3 * static_cast<Index>(r)) +=
+        dt * m_term_forces.col(m_node_of_row[static_cast<std::size_t>(r)]);
   if (!m_term_derivatives) return;
   for (int block : m_term_only_blocks) system.matrix.block(block).setZero();
   SystemTermBlocks blocks(*this, v, dt, system);
@@ -354,8 +363,8 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
   // K w = (k_uu w.u + k_uw w.w) u + k_i w.
   const auto spring_pass = [&]() {
     team_for(springs, [&](int s) {
-      const SpringLinearisation<Scalar> l =
-          linearise_spring<Scalar>(x.col(ia[s]), x.col(ib[s]), v.col(ia[s]), v.col(ib[s]), rest[s], ks[s], kd[s], variant);
+      const SpringLinearisation<Scalar> l = linearise_spring<Scalar>(x.col(ia[s]), x.col(ib[s]), v.col(ia[s]),
+                                                                     v.col(ib[s]), rest[s], ks[s], kd[s], variant);
       const Scalar p = dt * kd[s] + dt2 * l.k_uu;
       const Scalar q = dt2 * l.k_i;
       const Scalar u0 = l.u[0], u1 = l.u[1], u2 = l.u[2];
@@ -420,9 +429,13 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
         }
         const Scalar* g = g_all + 3 * in.spring;
         if (in.node_b) {
-          b0 -= g[0]; b1 -= g[1]; b2 -= g[2];
+          b0 -= g[0];
+          b1 -= g[1];
+          b2 -= g[2];
         } else {
-          b0 += g[0]; b1 += g[1]; b2 += g[2];
+          b0 += g[0];
+          b1 += g[1];
+          b2 += g[2];
         }
       }
       expand(diag, values + 9 * diagonal[row]);
@@ -451,10 +464,22 @@ void JacobianAssembler<Scalar>::assemble_jacobians(const ConstRef3X<Scalar>& x, 
     const SpringDerivatives<Scalar> d = spring_derivatives<Scalar>(
         x.col(a), x.col(b), v.col(a), v.col(b), sp.rest_length()[s], sp.stiffness()[s], sp.damping()[s], variant);
     // df_a/dx_a = df_b/dx_b = -K, df_a/dx_b = df_b/dx_a = +K (and D likewise).
-    if (slot[2] >= 0) { dfdx.block(slot[2]) -= d.dfdx; dfdv.block(slot[2]) -= d.dfdv; }
-    if (slot[3] >= 0) { dfdx.block(slot[3]) -= d.dfdx; dfdv.block(slot[3]) -= d.dfdv; }
-    if (slot[4] >= 0) { dfdx.block(slot[4]) += d.dfdx; dfdv.block(slot[4]) += d.dfdv; }
-    if (slot[5] >= 0) { dfdx.block(slot[5]) += d.dfdx; dfdv.block(slot[5]) += d.dfdv; }
+    if (slot[2] >= 0) {
+      dfdx.block(slot[2]) -= d.dfdx;
+      dfdv.block(slot[2]) -= d.dfdv;
+    }
+    if (slot[3] >= 0) {
+      dfdx.block(slot[3]) -= d.dfdx;
+      dfdv.block(slot[3]) -= d.dfdv;
+    }
+    if (slot[4] >= 0) {
+      dfdx.block(slot[4]) += d.dfdx;
+      dfdv.block(slot[4]) += d.dfdv;
+    }
+    if (slot[5] >= 0) {
+      dfdx.block(slot[5]) += d.dfdx;
+      dfdv.block(slot[5]) += d.dfdv;
+    }
   });
   if (!m_term_derivatives) return;
   JacobianTermBlocks blocks(*this, dfdx, dfdv);

@@ -53,9 +53,7 @@ class SpringFamilies {
   /// Family of spring s (its slot is its first node `springs.a()[s]`).
   const std::vector<int>& family_of() const { return m_family_of; }
   /// Runs [begin, end) of part `part` of `parts`: contiguous, about the same number of springs each.
-  std::pair<int, int> run_share(int part, int parts) const {
-    return {run_at(part, parts), run_at(part + 1, parts)};
-  }
+  std::pair<int, int> run_share(int part, int parts) const { return {run_at(part, parts), run_at(part + 1, parts)}; }
 
  private:
   int m_node_count;
@@ -116,8 +114,8 @@ SpringFamilies<Scalar>::SpringFamilies(const SpringSet<Scalar>& springs, int nod
     const int family = m_family_of[static_cast<std::size_t>(s)];
     if (!m_runs.empty()) {
       Run& r = m_runs.back();
-      if (r.family == family && r.first + r.count == a[s] && r.count < max_run_length &&
-          r.rest_length == rest[s] && r.stiffness == ks[s] && r.damping == kd[s]) {
+      if (r.family == family && r.first + r.count == a[s] && r.count < max_run_length && r.rest_length == rest[s] &&
+          r.stiffness == ks[s] && r.damping == kd[s]) {
         ++r.count;
         continue;
       }

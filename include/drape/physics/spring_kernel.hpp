@@ -25,8 +25,7 @@ Scalar spring_energy(const Vec3<Scalar>& xa, const Vec3<Scalar>& xb, Scalar rest
 /// \f$ c = (k_s (L - l) + k_d\, (w \cdot d) / L) / L \f$, with one reciprocal instead of three
 /// divisions. Every force pass (spring_force and the vectorised ForceAssembler) goes through it.
 template <class Scalar>
-inline Scalar spring_force_factor(Scalar length, Scalar w_dot_d, Scalar rest_length, Scalar stiffness,
-                                  Scalar damping) {
+inline Scalar spring_force_factor(Scalar length, Scalar w_dot_d, Scalar rest_length, Scalar stiffness, Scalar damping) {
   const Scalar inverse_length = Scalar(1) / length;
   const Scalar magnitude = stiffness * (length - rest_length) + damping * (w_dot_d * inverse_length);
   return magnitude * inverse_length;

@@ -39,15 +39,15 @@ namespace drape {
 
 /// What one frame is granted and how the run is keeping up.
 struct RealtimeFrame {
-  int steps = 0;                    ///< whole steps of dt to run this frame, in [0, max_steps_per_frame]
-  double wall_elapsed = 0.0;        ///< s of wall time since the previous frame (or start())
-  double dropped = 0.0;             ///< s of simulated time dropped this frame because of the cap
-  double interpolation = 0.0;       ///< owed remainder / dt in [0, 1): where "now" lies between the
-                                    ///< last two states (draw (1-a) x_prev + a x_last, lagging one step)
-  double achieved_factor = 0.0;     ///< simulated / wall time over this frame (0 if no wall time passed)
-  double total_wall = 0.0;          ///< s of wall time since start()
-  double total_simulated = 0.0;     ///< s simulated since start() (steps granted x dt)
-  double total_dropped = 0.0;       ///< s dropped since start()
+  int steps = 0;                 ///< whole steps of dt to run this frame, in [0, max_steps_per_frame]
+  double wall_elapsed = 0.0;     ///< s of wall time since the previous frame (or start())
+  double dropped = 0.0;          ///< s of simulated time dropped this frame because of the cap
+  double interpolation = 0.0;    ///< owed remainder / dt in [0, 1): where "now" lies between the
+                                 ///< last two states (draw (1-a) x_prev + a x_last, lagging one step)
+  double achieved_factor = 0.0;  ///< simulated / wall time over this frame (0 if no wall time passed)
+  double total_wall = 0.0;       ///< s of wall time since start()
+  double total_simulated = 0.0;  ///< s simulated since start() (steps granted x dt)
+  double total_dropped = 0.0;    ///< s dropped since start()
   /// Simulated / wall time since start(); equals the requested factor unless the cap dropped time.
   double overall_factor() const { return total_wall > 0 ? total_simulated / total_wall : 0.0; }
 };

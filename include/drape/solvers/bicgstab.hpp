@@ -84,7 +84,9 @@ SolveStatus BicgstabSolver<Scalar>::solve(const LinearSystem<Scalar>& system, Ve
     if (rho_new == Scalar(0) || !std::isfinite(double(rho_new))) {
       // Breakdown: restart with the current residual as shadow vector.
       m_r0 = m_r;
-      rho = 1; alpha = 1; omega = 1;
+      rho = 1;
+      alpha = 1;
+      omega = 1;
       m_v.setZero();
       m_p.setZero();
       if (m_r0.squaredNorm() == Scalar(0)) break;

@@ -45,7 +45,7 @@ class LinearSolver {
 struct IterativeSettings {
   double tolerance = 1e-6;  ///< stop when |S(b - A x)| <= tolerance |S b|
   int max_iterations = 1000;
-  int threads = 0;          ///< 0 = all available
+  int threads = 0;  ///< 0 = all available
   PreconditionerKind preconditioner = PreconditionerKind::BlockJacobi;
 
   /// \throws InvalidParameter for tolerance outside (0, 1), max_iterations < 1 or threads < 0.

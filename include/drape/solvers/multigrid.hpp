@@ -137,7 +137,8 @@ bool MultigridPreconditioner<Scalar>::factorise_coarsest() {
     for (int k = m.row_begin()[static_cast<std::size_t>(r)]; k < m.row_begin()[static_cast<std::size_t>(r) + 1]; ++k) {
       const int c = m.column()[static_cast<std::size_t>(k)];
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) m_coarsest[static_cast<std::size_t>((3 * r + i) * n + 3 * c + j)] = m.block(k)(i, j);
+        for (int j = 0; j < 3; ++j)
+          m_coarsest[static_cast<std::size_t>((3 * r + i) * n + 3 * c + j)] = m.block(k)(i, j);
     }
   return detail::cholesky_in_place(m_coarsest.data(), n);
 }
@@ -209,9 +210,13 @@ void MultigridPreconditioner<Scalar>::smooth(int l, const Scalar* t, bool first,
     const Scalar u0 = omega * d[0], u1 = omega * d[1], u2 = omega * d[2];
     Scalar* xr = x + 3 * row;
     if (first) {
-      xr[0] = u0; xr[1] = u1; xr[2] = u2;
+      xr[0] = u0;
+      xr[1] = u1;
+      xr[2] = u2;
     } else {
-      xr[0] += u0; xr[1] += u1; xr[2] += u2;
+      xr[0] += u0;
+      xr[1] += u1;
+      xr[2] += u2;
     }
   });
 }

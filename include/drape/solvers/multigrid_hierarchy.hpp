@@ -30,9 +30,9 @@
 namespace drape {
 
 struct MultigridSettings {
-  int sweeps = 1;              ///< block-Jacobi sweeps before and after the coarse correction
-  double omega = 0.8;          ///< Jacobi weight, in (0, 1]
-  int max_direct_rows = 16;    ///< coarsest level: at most this many block rows (dense Cholesky)
+  int sweeps = 1;            ///< block-Jacobi sweeps before and after the coarse correction
+  double omega = 0.8;        ///< Jacobi weight, in (0, 1]
+  int max_direct_rows = 16;  ///< coarsest level: at most this many block rows (dense Cholesky)
   /// Levels with fewer block rows run on one thread of the team: below this a loop costs less
   /// than the barriers around it.
   int min_team_rows = 2048;
@@ -141,9 +141,11 @@ Eigen::SparseMatrix<Scalar> MultigridHierarchy<Scalar>::prolongation(int l) cons
   const int fine_rows = m_levels[static_cast<std::size_t>(l) - 1].rows;
   std::vector<Eigen::Triplet<Scalar>> t;
   for (int rf = 0; rf < fine_rows; ++rf)
-    for (int e = coarse.p_begin[static_cast<std::size_t>(rf)]; e < coarse.p_begin[static_cast<std::size_t>(rf) + 1]; ++e)
+    for (int e = coarse.p_begin[static_cast<std::size_t>(rf)]; e < coarse.p_begin[static_cast<std::size_t>(rf) + 1];
+         ++e)
       for (int k = 0; k < 3; ++k)
-        t.emplace_back(3 * rf + k, 3 * coarse.p_row[static_cast<std::size_t>(e)] + k, coarse.p_weight[static_cast<std::size_t>(e)]);
+        t.emplace_back(3 * rf + k, 3 * coarse.p_row[static_cast<std::size_t>(e)] + k,
+                       coarse.p_weight[static_cast<std::size_t>(e)]);
   Eigen::SparseMatrix<Scalar> p(3 * fine_rows, 3 * coarse.rows);
   p.setFromTriplets(t.begin(), t.end());
   return p;
@@ -176,10 +178,10 @@ void MultigridHierarchy<Scalar>::analyze(const GridLayout& layout, const BlockSp
     coarse.ny = ay.coarse;
     coarse.row_of_node.assign(static_cast<std::size_t>(coarse.nx) * static_cast<std::size_t>(coarse.ny), -1);
     int coarse_rows = 0;
-    for (int J = 0; J < coarse.ny; ++J)
-      for (int I = 0; I < coarse.nx; ++I)
-        if (fine.row_of_node[static_cast<std::size_t>(ay.position[J]) * fine.nx + ax.position[I]] >= 0)
-          coarse.row_of_node[static_cast<std::size_t>(J) * coarse.nx + I] = coarse_rows++;
+    for (int cj = 0; cj < coarse.ny; ++cj)
+      for (int ci = 0; ci < coarse.nx; ++ci)
+        if (fine.row_of_node[static_cast<std::size_t>(ay.position[cj]) * fine.nx + ax.position[ci]] >= 0)
+          coarse.row_of_node[static_cast<std::size_t>(cj) * coarse.nx + ci] = coarse_rows++;
     if (coarse_rows == 0) break;
 
     Level level;
@@ -194,11 +196,11 @@ void MultigridHierarchy<Scalar>::analyze(const GridLayout& layout, const BlockSp
         const std::array<int, 2>& pi = ax.parent[static_cast<std::size_t>(i)];
         const std::array<int, 2>& pj = ay.parent[static_cast<std::size_t>(j)];
         const Scalar wi = pi[1] >= 0 ? Scalar(0.5) : Scalar(1), wj = pj[1] >= 0 ? Scalar(0.5) : Scalar(1);
-        for (int J : pj) {
-          if (J < 0) continue;
-          for (int I : pi) {
-            if (I < 0) continue;
-            const int rc = coarse.row_of_node[static_cast<std::size_t>(J) * coarse.nx + I];
+        for (int cj : pj) {
+          if (cj < 0) continue;
+          for (int ci : pi) {
+            if (ci < 0) continue;
+            const int rc = coarse.row_of_node[static_cast<std::size_t>(cj) * coarse.nx + ci];
             if (rc >= 0) p[static_cast<std::size_t>(rf)].emplace_back(rc, wi * wj);
           }
         }
@@ -221,7 +223,7 @@ void MultigridHierarchy<Scalar>::analyze(const GridLayout& layout, const BlockSp
       }
       level.r_begin.push_back(static_cast<int>(level.r_row.size()));
     }
-    // Coarse pattern: (I, J) for every fine block (i, j) and parents I of i, J of j.
+    // Coarse pattern: (ci, cj) for every fine block (i, j) and coarse parents ci of i, cj of j.
     const std::vector<int>& frb = fine_matrix->row_begin();
     const std::vector<int>& fcol = fine_matrix->column();
     std::vector<std::vector<int>> columns(static_cast<std::size_t>(coarse_rows));
@@ -237,28 +239,28 @@ void MultigridHierarchy<Scalar>::analyze(const GridLayout& layout, const BlockSp
     const auto for_each_term = [&](auto&& term) {
       for (int i = 0; i < fine_rows; ++i)
         for (int k = frb[static_cast<std::size_t>(i)]; k < frb[static_cast<std::size_t>(i) + 1]; ++k)
-          for (const auto& [I, wi] : p[static_cast<std::size_t>(i)])
-            for (const auto& [J, wj] : p[static_cast<std::size_t>(fcol[static_cast<std::size_t>(k)])])
-              if (I <= J) term(level.a.find(I, J), k, wi * wj);
+          for (const auto& [ci, wi] : p[static_cast<std::size_t>(i)])
+            for (const auto& [cj, wj] : p[static_cast<std::size_t>(fcol[static_cast<std::size_t>(k)])])
+              if (ci <= cj) term(level.a.find(ci, cj), k, wi * wj);
     };
-    for_each_term([&](int K, int, Scalar) { ++first[static_cast<std::size_t>(K) + 1]; });
-    for (std::size_t K = 0; K + 1 < first.size(); ++K) first[K + 1] += first[K];
+    for_each_term([&](int cb, int, Scalar) { ++first[static_cast<std::size_t>(cb) + 1]; });
+    for (std::size_t cb = 0; cb + 1 < first.size(); ++cb) first[cb + 1] += first[cb];
     std::vector<int> fill(first.begin(), first.end() - 1);
     std::vector<int> term_block(static_cast<std::size_t>(first.back()));
     std::vector<Scalar> term_weight(static_cast<std::size_t>(first.back()));
-    for_each_term([&](int K, int k, Scalar w) {
-      const int at = fill[static_cast<std::size_t>(K)]++;
+    for_each_term([&](int cb, int k, Scalar w) {
+      const int at = fill[static_cast<std::size_t>(cb)]++;
       term_block[static_cast<std::size_t>(at)] = k;
       term_weight[static_cast<std::size_t>(at)] = w;
     });
     level.g_begin.push_back(0);
-    for (int K = 0; K < level.a.block_count(); ++K) {
-      if (first[static_cast<std::size_t>(K)] == first[static_cast<std::size_t>(K) + 1]) continue;
-      level.upper.push_back(K);
-      level.g_block.insert(level.g_block.end(), term_block.begin() + first[static_cast<std::size_t>(K)],
-                           term_block.begin() + first[static_cast<std::size_t>(K) + 1]);
-      level.g_weight.insert(level.g_weight.end(), term_weight.begin() + first[static_cast<std::size_t>(K)],
-                            term_weight.begin() + first[static_cast<std::size_t>(K) + 1]);
+    for (int cb = 0; cb < level.a.block_count(); ++cb) {
+      if (first[static_cast<std::size_t>(cb)] == first[static_cast<std::size_t>(cb) + 1]) continue;
+      level.upper.push_back(cb);
+      level.g_block.insert(level.g_block.end(), term_block.begin() + first[static_cast<std::size_t>(cb)],
+                           term_block.begin() + first[static_cast<std::size_t>(cb) + 1]);
+      level.g_weight.insert(level.g_weight.end(), term_weight.begin() + first[static_cast<std::size_t>(cb)],
+                            term_weight.begin() + first[static_cast<std::size_t>(cb) + 1]);
       level.g_begin.push_back(static_cast<int>(level.g_block.size()));
     }
     m_levels.push_back(std::move(level));
@@ -280,12 +282,12 @@ void MultigridHierarchy<Scalar>::galerkin(int l, const BlockSparseMatrix<Scalar>
       const Scalar* f = fine + 9 * level.g_block[static_cast<std::size_t>(e)];
       for (int q = 0; q < 9; ++q) s[q] += w * f[q];
     }
-    const int K = level.upper[static_cast<std::size_t>(u)];
-    Scalar* c = coarse + 9 * K;
+    const int cb = level.upper[static_cast<std::size_t>(u)];
+    Scalar* c = coarse + 9 * cb;
     for (int q = 0; q < 9; ++q) c[q] = s[q];
-    const int T = transposed[K];
-    if (T != K) {
-      Scalar* t = coarse + 9 * T;
+    const int ct = transposed[cb];
+    if (ct != cb) {
+      Scalar* t = coarse + 9 * ct;
       for (int col = 0; col < 3; ++col)
         for (int row = 0; row < 3; ++row) t[3 * col + row] = s[3 * row + col];
     }
@@ -297,12 +299,16 @@ void MultigridHierarchy<Scalar>::restrict_to(int l, const Scalar* fine, Scalar* 
   const Level& level = m_levels[static_cast<std::size_t>(l)];
   team_for_if(shared, level.rows, [&](int rc) {
     Scalar s0 = 0, s1 = 0, s2 = 0;
-    for (int e = level.r_begin[static_cast<std::size_t>(rc)]; e < level.r_begin[static_cast<std::size_t>(rc) + 1]; ++e) {
+    for (int e = level.r_begin[static_cast<std::size_t>(rc)]; e < level.r_begin[static_cast<std::size_t>(rc) + 1];
+         ++e) {
       const Scalar w = level.r_weight[static_cast<std::size_t>(e)];
       const Scalar* tf = fine + 3 * level.r_row[static_cast<std::size_t>(e)];
+      // One line per 3-vector:
+      // clang-format off
       s0 += w * tf[0]; s1 += w * tf[1]; s2 += w * tf[2];
     }
     coarse[3 * rc] = s0; coarse[3 * rc + 1] = s1; coarse[3 * rc + 2] = s2;
+    // clang-format on
   });
 }
 
@@ -311,12 +317,16 @@ void MultigridHierarchy<Scalar>::prolong_add(int l, const Scalar* coarse, Scalar
   const Level& level = m_levels[static_cast<std::size_t>(l)];
   team_for_if(shared, m_levels[static_cast<std::size_t>(l) - 1].rows, [&](int rf) {
     Scalar s0 = 0, s1 = 0, s2 = 0;
-    for (int e = level.p_begin[static_cast<std::size_t>(rf)]; e < level.p_begin[static_cast<std::size_t>(rf) + 1]; ++e) {
+    for (int e = level.p_begin[static_cast<std::size_t>(rf)]; e < level.p_begin[static_cast<std::size_t>(rf) + 1];
+         ++e) {
       const Scalar w = level.p_weight[static_cast<std::size_t>(e)];
       const Scalar* c = coarse + 3 * level.p_row[static_cast<std::size_t>(e)];
+      // One line per 3-vector:
+      // clang-format off
       s0 += w * c[0]; s1 += w * c[1]; s2 += w * c[2];
     }
     fine[3 * rf] += s0; fine[3 * rf + 1] += s1; fine[3 * rf + 2] += s2;
+    // clang-format on
   });
 }
 

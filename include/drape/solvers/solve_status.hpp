@@ -20,11 +20,12 @@ enum class SolveError : std::uint8_t {
 template <>
 struct EnumNames<SolveError> {
   static constexpr const char* parameter = "solve error";
-  static constexpr std::array<EnumName<SolveError>, 5> values{{{SolveError::None, "ok"},
-                                                               {SolveError::NonFiniteResult, "non-finite result"},
-                                                               {SolveError::NotPositiveDefinite, "not positive definite"},
-                                                               {SolveError::NoConvergence, "no convergence"},
-                                                               {SolveError::SolverFailure, "solver failure"}}};
+  static constexpr std::array<EnumName<SolveError>, 5> values{
+      {{SolveError::None, "ok"},
+       {SolveError::NonFiniteResult, "non-finite result"},
+       {SolveError::NotPositiveDefinite, "not positive definite"},
+       {SolveError::NoConvergence, "no convergence"},
+       {SolveError::SolverFailure, "solver failure"}}};
 };
 
 struct SolveStatus {

@@ -4,14 +4,15 @@
 /// capabilities and what a program needs to have it. Selection by name, availability and the
 /// factories are in solver_registry.hpp.
 ///
-/// | name       | method                                          | matrix    | constraints | needs                                   |
+/// | name       | method                                          | matrix    | constraints | needs |
 /// |------------|-------------------------------------------------|-----------|-------------|-----------------------------------------|
-/// | `cg`       | PCG, block Jacobi or multigrid, warm-started    | SPD       | yes         | header-only                             |
-/// | `bicgstab` | BiCGSTAB with block Jacobi, warm-started        | any       | yes         | header-only                             |
-/// | `ldlt`     | Eigen SimplicialLDLT, AMD ordering              | SPD       | no          | opt-in: `drape/solvers/enable_ldlt.hpp` |
-/// | `lu`       | Eigen SparseLU, COLAMD ordering                 | any       | no          | opt-in: `drape/solvers/enable_lu.hpp`   |
-/// | `cholmod`  | CHOLMOD supernodal LL^T, AMD ordering           | SPD       | no          | SuiteSparse (`drape::suitesparse`)      |
-/// | `umfpack`  | UMFPACK LU                                      | any       | no          | SuiteSparse (`drape::suitesparse`)      |
+/// | `cg`       | PCG, block Jacobi or multigrid, warm-started    | SPD       | yes         | header-only | |
+/// `bicgstab` | BiCGSTAB with block Jacobi, warm-started        | any       | yes         | header-only | | `ldlt` |
+/// Eigen SimplicialLDLT, AMD ordering              | SPD       | no          | opt-in: `drape/solvers/enable_ldlt.hpp`
+/// | | `lu`       | Eigen SparseLU, COLAMD ordering                 | any       | no          | opt-in:
+/// `drape/solvers/enable_lu.hpp`   | | `cholmod`  | CHOLMOD supernodal LL^T, AMD ordering           | SPD       | no |
+/// SuiteSparse (`drape::suitesparse`)      | | `umfpack`  | UMFPACK LU                                      | any | no
+/// | SuiteSparse (`drape::suitesparse`)      |
 
 #include <array>
 #include <cstdint>
@@ -54,14 +55,22 @@ struct LinearSolverInfo {
 /// The row of the table for `kind`.
 inline const LinearSolverInfo& solver_info(LinearSolverKind kind) {
   static constexpr std::array<LinearSolverInfo, linear_solver_kind_count> table{{
-      {LinearSolverKind::Cg, "preconditioned conjugate gradients (block Jacobi or multigrid), warm-started",
-       {true, true, true}, SolverRequirement::None},
-      {LinearSolverKind::Bicgstab, "BiCGSTAB with block Jacobi, warm-started", {false, true, true},
+      {LinearSolverKind::Cg,
+       "preconditioned conjugate gradients (block Jacobi or multigrid), warm-started",
+       {true, true, true},
        SolverRequirement::None},
-      {LinearSolverKind::Ldlt, "Eigen SimplicialLDLT, AMD ordering", {true, false, false},
+      {LinearSolverKind::Bicgstab,
+       "BiCGSTAB with block Jacobi, warm-started",
+       {false, true, true},
+       SolverRequirement::None},
+      {LinearSolverKind::Ldlt,
+       "Eigen SimplicialLDLT, AMD ordering",
+       {true, false, false},
        SolverRequirement::OptInHeader},
       {LinearSolverKind::Lu, "Eigen SparseLU, COLAMD ordering", {false, false, false}, SolverRequirement::OptInHeader},
-      {LinearSolverKind::Cholmod, "CHOLMOD supernodal LL^T, AMD ordering", {true, false, false},
+      {LinearSolverKind::Cholmod,
+       "CHOLMOD supernodal LL^T, AMD ordering",
+       {true, false, false},
        SolverRequirement::SuiteSparse},
       {LinearSolverKind::Umfpack, "UMFPACK LU", {false, false, false}, SolverRequirement::SuiteSparse},
   }};

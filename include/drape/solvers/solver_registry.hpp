@@ -99,16 +99,19 @@ inline void require_solver_available(LinearSolverKind kind) {
 /// \throws InvalidParameter as require_solver_available(), or if an opt-in solver is asked for with
 /// a scalar type other than double and float.
 template <class Scalar = double>
-std::unique_ptr<LinearSolver<Scalar>> make_linear_solver(LinearSolverKind kind, const IterativeSettings& settings = {}) {
+std::unique_ptr<LinearSolver<Scalar>> make_linear_solver(LinearSolverKind kind,
+                                                         const IterativeSettings& settings = {}) {
   require_solver_available(kind);
   const detail::SolverFactory<Scalar> make = detail::solver_factories<Scalar>()[static_cast<std::size_t>(kind)];
-  if (!make) detail::fail_argument("solver", "'" + std::string(to_string(kind)) + "' for this scalar type", "double or float");
+  if (!make)
+    detail::fail_argument("solver", "'" + std::string(to_string(kind)) + "' for this scalar type", "double or float");
   return make(settings);
 }
 
 /// make_linear_solver() by name. \throws InvalidParameter for an unknown name, listing the names.
 template <class Scalar = double>
-std::unique_ptr<LinearSolver<Scalar>> make_linear_solver(std::string_view name, const IterativeSettings& settings = {}) {
+std::unique_ptr<LinearSolver<Scalar>> make_linear_solver(std::string_view name,
+                                                         const IterativeSettings& settings = {}) {
   return make_linear_solver<Scalar>(parse<LinearSolverKind>(name), settings);
 }
 

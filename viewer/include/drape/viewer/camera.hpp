@@ -144,13 +144,17 @@ inline Camera frame_bounds(const Bounds& box, float aspect, float azimuth_deg, f
 /// A camera that follows the cloth: each frame it aims at the centre of the bounding box of the
 /// current positions (smoothed with time constant `smoothing`, s of simulated time, so the view
 /// glides) and backs off until every node is in the image with a margin (at once when it must
-/// back off, smoothed when it can come closer), so the cloth is never cut off. The floor stays at a fixed height (below the lowest point the cloth
-/// can hang to), so the cloth's motion still reads against it.
+/// back off, smoothed when it can come closer), so the cloth is never cut off. The floor stays at a fixed height (below
+/// the lowest point the cloth can hang to), so the cloth's motion still reads against it.
 class FollowCamera {
  public:
   FollowCamera(float aspect, float azimuth_deg, float elevation_deg, float floor_height, float smoothing = 0.3f,
                float fov_y_deg = 35.0f, float margin = 0.08f)
-      : m_aspect(aspect), m_fov(fov_y_deg), m_margin(margin), m_floor(floor_height), m_smoothing(smoothing),
+      : m_aspect(aspect),
+        m_fov(fov_y_deg),
+        m_margin(margin),
+        m_floor(floor_height),
+        m_smoothing(smoothing),
         m_view(azimuth_deg, elevation_deg) {}
 
   /// The camera for `positions` (`3 x n`), `elapsed` s of simulated time after the previous call.
@@ -159,9 +163,8 @@ class FollowCamera {
     constexpr float deg = 3.14159265358979f / 180.0f;
     Bounds b;
     for (Index i = 0; i < positions.cols(); ++i) b.extend(positions.col(i).template cast<float>());
-    const float a = (!m_started || m_smoothing <= 0)
-                        ? 1.0f
-                        : 1.0f - std::exp(-float(std::max(elapsed, 0.0)) / m_smoothing);
+    const float a =
+        (!m_started || m_smoothing <= 0) ? 1.0f : 1.0f - std::exp(-float(std::max(elapsed, 0.0)) / m_smoothing);
     m_target = m_started ? Eigen::Vector3f(m_target + a * (b.centre() - m_target)) : b.centre();
     // The distance that fits every node around the (smoothed) aim: backing off is immediate so
     // the cloth never leaves the image; moving in is smoothed.

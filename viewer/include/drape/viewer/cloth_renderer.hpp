@@ -23,9 +23,9 @@ namespace drape::viewer {
 struct RenderSettings {
   int width = 640;
   int height = 480;
-  int samples = 4;       ///< MSAA samples (clamped to what the implementation offers)
-  bool floor = true;     ///< checkered floor plane below the cloth
-  bool pattern = true;   ///< faint woven pattern on the cloth (off: pure Lambert, for tests)
+  int samples = 4;          ///< MSAA samples (clamped to what the implementation offers)
+  bool floor = true;        ///< checkered floor plane below the cloth
+  bool pattern = true;      ///< faint woven pattern on the cloth (off: pure Lambert, for tests)
   float floor_cell = 0.4f;  ///< side of the floor's checker squares (m)
   Eigen::Vector3f front_colour{0.80f, 0.28f, 0.20f};  ///< side whose normal is +y at rest (top)
   Eigen::Vector3f back_colour{0.20f, 0.42f, 0.78f};   ///< underside
