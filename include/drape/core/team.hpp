@@ -28,6 +28,14 @@
 #define DRAPE_OMP_SIMD_SUM(s)
 #endif
 
+/// Forces inlining of the work-sharing helpers: their loop bodies keep their running sums in
+/// registers only when the helper is inlined into the caller (measured: PCG 20% slower otherwise).
+#if defined(__GNUC__)
+#define DRAPE_INLINE_LOOP inline __attribute__((always_inline))
+#else
+#define DRAPE_INLINE_LOOP inline
+#endif
+
 namespace drape {
 
 /// Threads available to drape: OpenMP's maximum, or 1 without OpenMP.
@@ -76,7 +84,7 @@ inline void team_barrier() {
 
 /// Runs `body()` on a team of `threads` threads (serially if `threads` <= 1 or without OpenMP).
 template <class Body>
-void run_in_team(int threads, Body&& body) {
+DRAPE_INLINE_LOOP void run_in_team(int threads, Body&& body) {
 #if defined(_OPENMP)
   if (threads > 1) {
 #pragma omp parallel num_threads(threads)
@@ -91,7 +99,7 @@ void run_in_team(int threads, Body&& body) {
 /// `body(i)` for every i in [begin, end), each thread of the team taking one contiguous share
 /// (OpenMP's static schedule); the team waits at the end. Call from every thread of the team.
 template <class Body>
-void team_for(int begin, int end, Body&& body) {
+DRAPE_INLINE_LOOP void team_for(int begin, int end, Body&& body) {
 #if defined(_OPENMP)
 #pragma omp for schedule(static)
 #endif
@@ -100,13 +108,13 @@ void team_for(int begin, int end, Body&& body) {
 
 /// team_for() over [0, n).
 template <class Body>
-void team_for(int n, Body&& body) {
+DRAPE_INLINE_LOOP void team_for(int n, Body&& body) {
   team_for(0, n, body);
 }
 
 /// team_for() without the wait at the end.
 template <class Body>
-void team_for_nowait(int n, Body&& body) {
+DRAPE_INLINE_LOOP void team_for_nowait(int n, Body&& body) {
 #if defined(_OPENMP)
 #pragma omp for schedule(static) nowait
 #endif
@@ -116,7 +124,7 @@ void team_for_nowait(int n, Body&& body) {
 /// `body(i)` for every i in [0, n): shared by the team like team_for() if `shared`, otherwise all
 /// on the calling thread, without any wait (for loops too short to be worth a barrier).
 template <class Body>
-void team_for_if(bool shared, int n, Body&& body) {
+DRAPE_INLINE_LOOP void team_for_if(bool shared, int n, Body&& body) {
   if (shared) {
     team_for(0, n, body);
   } else {
@@ -126,7 +134,7 @@ void team_for_if(bool shared, int n, Body&& body) {
 
 /// One thread of the team runs `body()`; the team waits at the end.
 template <class Body>
-void team_single(Body&& body) {
+DRAPE_INLINE_LOOP void team_single(Body&& body) {
 #if defined(_OPENMP)
 #pragma omp single
 #endif
