@@ -249,10 +249,10 @@ TEST_CASE("opt-in solvers: registered by their header, otherwise rejected naming
     CHECK(std::string(make_linear_solver<float>(name)->name()) == name);
   }
   // A program that includes neither header: simulated by emptying the registry for a moment.
-  auto& registered = detail::solver_factories<double>();
+  auto& registered = detail::registered_opt_ins();
   const auto saved = registered;
-  registered[static_cast<std::size_t>(LinearSolverKind::Ldlt)] = nullptr;
-  registered[static_cast<std::size_t>(LinearSolverKind::Lu)] = nullptr;
+  registered[static_cast<std::size_t>(LinearSolverKind::Ldlt)] = false;
+  registered[static_cast<std::size_t>(LinearSolverKind::Lu)] = false;
   for (const std::string name : {"ldlt", "lu"}) {
     INFO(name);
     const LinearSolverKind kind = parse<LinearSolverKind>(name);

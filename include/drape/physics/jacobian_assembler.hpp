@@ -286,10 +286,15 @@ class JacobianAssembler<Scalar>::SystemTermBlocks final : public ForceDerivative
   void add(int a, int b, const Mat3<Scalar>& dfdx, const Mat3<Scalar>& dfdv) override {
     const int ra = m_assembler.m_row_of_node[static_cast<std::size_t>(a)];
     if (ra < 0) return;
+    const Scalar dt2 = m_dt * m_dt;
     // b += dt^2 (df/dx) v for every column, eliminated or not.
-    m_system.rhs.template segment<3>(3 * static_cast<Index>(ra)) += (m_dt * m_dt) * (dfdx * m_v.col(b));
+    const std::array<Scalar, 3> kv = block_times(dfdx.data(), m_v.data() + 3 * static_cast<Index>(b));
+    Scalar* rhs = m_system.rhs.data() + 3 * static_cast<Index>(ra);
+    for (int k = 0; k < 3; ++k) rhs[k] += dt2 * kv[static_cast<std::size_t>(k)];
     const int block = m_assembler.term_block(m_system.matrix, a, b);
-    if (block >= 0) m_system.matrix.block(block) -= m_dt * dfdv + (m_dt * m_dt) * dfdx;
+    if (block < 0) return;
+    Scalar* values = m_system.matrix.values() + 9 * static_cast<Index>(block);
+    for (int q = 0; q < 9; ++q) values[q] -= m_dt * dfdv.data()[q] + dt2 * dfdx.data()[q];
   }
 
  private:
@@ -323,9 +328,10 @@ void JacobianAssembler<Scalar>::add_terms(const ConstRef3X<Scalar>& x, const Con
                                           Scalar dt, LinearSystem<Scalar>& system) const {
   m_term_forces.setZero();
   for (const auto& term : m_cloth->force_terms()) term->add_force(x, v, time, m_term_forces);
-  for (int r = 0; r < system_nodes(); ++r)
-    system.rhs.template segment<3>(3 * static_cast<Index>(r)) +=
-        dt * m_term_forces.col(m_node_of_row[static_cast<std::size_t>(r)]);
+  for (int r = 0; r < system_nodes(); ++r) {
+    const Scalar* f = m_term_forces.data() + 3 * static_cast<Index>(m_node_of_row[static_cast<std::size_t>(r)]);
+    for (int k = 0; k < 3; ++k) system.rhs[3 * static_cast<Index>(r) + k] += dt * f[k];
+  }
   if (!m_term_derivatives) return;
   for (int block : m_term_only_blocks) system.matrix.block(block).setZero();
   SystemTermBlocks blocks(*this, v, dt, system);

@@ -34,47 +34,53 @@ namespace drape {
 namespace detail {
 
 template <class Scalar>
-using SolverFactory = std::unique_ptr<LinearSolver<Scalar>> (*)(const IterativeSettings&);
+using SolverFactory = std::unique_ptr<LinearSolver<Scalar>> (*)();
 
 template <class Scalar, template <class> class Solver>
-std::unique_ptr<LinearSolver<Scalar>> make_iterative(const IterativeSettings& settings) {
-  return std::make_unique<Solver<Scalar>>(settings);
-}
-template <class Scalar, template <class> class Solver>
-std::unique_ptr<LinearSolver<Scalar>> make_direct(const IterativeSettings&) {
+std::unique_ptr<LinearSolver<Scalar>> make_direct() {
   return std::make_unique<Solver<Scalar>>();
 }
 
-/// The factory of every kind this program has for `Scalar` (null: not available), indexed by kind.
+/// The opt-in solvers registered in this program, by kind. A plain flag table: asking what is
+/// available instantiates no solver (that would compile every solver into every translation unit).
+inline std::array<bool, linear_solver_kind_count>& registered_opt_ins() {
+  static std::array<bool, linear_solver_kind_count> registered{};
+  return registered;
+}
+
+/// The opt-in solvers' factories for `Scalar`, by kind (null: not registered).
 template <class Scalar>
-std::array<SolverFactory<Scalar>, linear_solver_kind_count>& solver_factories() {
-  static std::array<SolverFactory<Scalar>, linear_solver_kind_count> table = [] {
-    std::array<SolverFactory<Scalar>, linear_solver_kind_count> t{};
-    t[static_cast<std::size_t>(LinearSolverKind::Cg)] = &make_iterative<Scalar, PcgSolver>;
-    t[static_cast<std::size_t>(LinearSolverKind::Bicgstab)] = &make_iterative<Scalar, BicgstabSolver>;
-#if defined(DRAPE_HAS_SUITESPARSE)
-    t[static_cast<std::size_t>(LinearSolverKind::Cholmod)] = &make_direct<Scalar, CholmodSolver>;
-    t[static_cast<std::size_t>(LinearSolverKind::Umfpack)] = &make_direct<Scalar, UmfpackSolver>;
-#endif
-    return t;
-  }();
-  return table;
+std::array<SolverFactory<Scalar>, linear_solver_kind_count>& opt_in_factories() {
+  static std::array<SolverFactory<Scalar>, linear_solver_kind_count> factories{};
+  return factories;
 }
 
 /// Registers the direct solver `Solver<double>` and `Solver<float>` as `kind` (the enable_*.hpp
 /// headers call it from an inline variable's initialiser, which runs once per program).
 template <template <class> class Solver>
 bool register_solver(LinearSolverKind kind) {
-  solver_factories<double>()[static_cast<std::size_t>(kind)] = &make_direct<double, Solver>;
-  solver_factories<float>()[static_cast<std::size_t>(kind)] = &make_direct<float, Solver>;
+  opt_in_factories<double>()[static_cast<std::size_t>(kind)] = &make_direct<double, Solver>;
+  opt_in_factories<float>()[static_cast<std::size_t>(kind)] = &make_direct<float, Solver>;
+  registered_opt_ins()[static_cast<std::size_t>(kind)] = true;
   return true;
 }
 
 }  // namespace detail
 
-/// True if this program has `kind` (for double: opt-in solvers are registered for double and float).
+/// True if this program has `kind`: the built-in ones always, the SuiteSparse ones when built with
+/// them, the opt-in ones once their header is included somewhere in the program.
 inline bool solver_available(LinearSolverKind kind) {
-  return detail::solver_factories<double>()[static_cast<std::size_t>(kind)] != nullptr;
+  switch (solver_info(kind).requirement) {
+    case SolverRequirement::None: return true;
+    case SolverRequirement::SuiteSparse:
+#if defined(DRAPE_HAS_SUITESPARSE)
+      return true;
+#else
+      return false;
+#endif
+    case SolverRequirement::OptInHeader: return detail::registered_opt_ins()[static_cast<std::size_t>(kind)];
+  }
+  return false;
 }
 
 /// The kinds this program has, in table order.
@@ -102,10 +108,19 @@ template <class Scalar = double>
 std::unique_ptr<LinearSolver<Scalar>> make_linear_solver(LinearSolverKind kind,
                                                          const IterativeSettings& settings = {}) {
   require_solver_available(kind);
-  const detail::SolverFactory<Scalar> make = detail::solver_factories<Scalar>()[static_cast<std::size_t>(kind)];
+  switch (kind) {
+    case LinearSolverKind::Cg: return std::make_unique<PcgSolver<Scalar>>(settings);
+    case LinearSolverKind::Bicgstab: return std::make_unique<BicgstabSolver<Scalar>>(settings);
+#if defined(DRAPE_HAS_SUITESPARSE)
+    case LinearSolverKind::Cholmod: return std::make_unique<CholmodSolver<Scalar>>();
+    case LinearSolverKind::Umfpack: return std::make_unique<UmfpackSolver<Scalar>>();
+#endif
+    default: break;
+  }
+  const detail::SolverFactory<Scalar> make = detail::opt_in_factories<Scalar>()[static_cast<std::size_t>(kind)];
   if (!make)
     detail::fail_argument("solver", "'" + std::string(to_string(kind)) + "' for this scalar type", "double or float");
-  return make(settings);
+  return make();
 }
 
 /// make_linear_solver() by name. \throws InvalidParameter for an unknown name, listing the names.
