@@ -103,27 +103,6 @@ ClothSpecd spec_with(std::vector<std::shared_ptr<const ForceTerm<double>>> terms
   return spec;
 }
 
-/// Central differences of the total force (springs, gravity, terms).
-Dense fd_jacobian(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X<double>& v, bool wrt_x) {
-  ForceAssembler<double> forces(cloth, 1);
-  Dense j(x.size(), x.size());
-  Matrix3X<double> fp(3, cloth.node_count()), fm(3, cloth.node_count());
-  const double h = 1e-6;
-  for (Index k = 0; k < x.size(); ++k) {
-    Matrix3X<double> xp = x, xm = x, vp = v, vm = v;
-    (wrt_x ? xp : vp).data()[k] += h;
-    (wrt_x ? xm : vm).data()[k] -= h;
-    forces.force(xp, vp, 0, fp);
-    forces.force(xm, vm, 0, fm);
-    j.col(k) = (flat(fp) - flat(fm)) / (2 * h);
-  }
-  return j;
-}
-
-double max_relative_error(const Dense& a, const Dense& b) {
-  return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
-}
-
 }  // namespace
 
 TEST_CASE("force terms add their force to the force pass, for any thread count", "[terms]") {
@@ -157,8 +136,8 @@ TEST_CASE("the assembled Jacobians include the terms' blocks (finite differences
   JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
   BlockSparseMatrix<double> kx = assembler.make_matrix(), kv = assembler.make_matrix();
   assembler.assemble_jacobians(x, v, 0, JacobianVariant::Exact, kx, kv);
-  CHECK(max_relative_error(kx.to_dense(), fd_jacobian(cloth, x, v, true)) < 1e-6);
-  CHECK(max_relative_error(kv.to_dense(), fd_jacobian(cloth, x, v, false)) < 1e-6);
+  CHECK(test::max_relative_error(kx.to_dense(), test::fd_jacobian(cloth, x, v, true)) < 1e-6);
+  CHECK(test::max_relative_error(kv.to_dense(), test::fd_jacobian(cloth, x, v, false)) < 1e-6);
 }
 
 TEST_CASE("the implicit system takes the terms: A = M - dt df/dv - dt^2 df/dx, b = dt (f + dt df/dx v)",
@@ -193,7 +172,7 @@ TEST_CASE("the implicit system takes the terms: A = M - dt df/dv - dt^2 df/dx, b
     }
     const Dense expected_a = Dense(m.asDiagonal()) - dt * kv.to_dense() - dt * dt * kx.to_dense();
     INFO("pins " << to_string(pins));
-    CHECK(max_relative_error(system.matrix.to_dense(), expected_a) < 1e-12);
+    CHECK(test::max_relative_error(system.matrix.to_dense(), expected_a) < 1e-12);
     // The pinned nodes' velocities are zero here, so the eliminated columns add nothing to b.
     const VectorX<double> expected_b = dt * (ff + dt * (kx.to_dense() * vf));
     CHECK((system.rhs - expected_b).cwiseAbs().maxCoeff() < 1e-12 * std::max(1.0, expected_b.cwiseAbs().maxCoeff()));
@@ -320,11 +299,5 @@ TEST_CASE("Newton iterations converge with a term's derivatives in the system", 
   REQUIRE(status.ok());
   CHECK(ie.newton_residual() <= 1e-9);
   // The backward Euler equations hold with the terms' forces at the end of the step.
-  Matrix3X<double> f(3, cloth.node_count());
-  ForceAssembler<double>(cloth, 1).force(s.positions, s.velocities, s.time, f);
-  double worst = 0;
-  for (int i = 0; i < cloth.node_count(); ++i)
-    if (!cloth.pins().is_pinned(i))
-      worst = std::max(worst, (cloth.grid().masses()[i] * (s.velocities.col(i) - start.velocities.col(i)) - o.dt * f.col(i)).norm());
-  CHECK(worst < 1e-7);
+  CHECK(test::backward_euler_residual(cloth, start, s, o.dt) < 1e-7);
 }

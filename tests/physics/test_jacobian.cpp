@@ -25,24 +25,6 @@ ClothSpecd damped_spec(int n) {
   return spec;
 }
 
-/// Central differences of the global force with respect to positions (wrt_x) or velocities.
-Dense fd_jacobian(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X<double>& v, bool wrt_x) {
-  ForceAssembler<double> forces(cloth, 1);
-  const Index n = x.size();
-  Dense j(n, n);
-  Matrix3X<double> fp(3, cloth.node_count()), fm(3, cloth.node_count());
-  const double h = 1e-6;
-  for (Index k = 0; k < n; ++k) {
-    Matrix3X<double> xp = x, xm = x, vp = v, vm = v;
-    (wrt_x ? xp : vp).data()[k] += h;
-    (wrt_x ? xm : vm).data()[k] -= h;
-    forces.force(xp, vp, 0, fp);
-    forces.force(xm, vm, 0, fm);
-    j.col(k) = (flat(fp) - flat(fm)) / (2 * h);
-  }
-  return j;
-}
-
 void assembled(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X<double>& v, JacobianVariant variant,
                Dense& dfdx, Dense& dfdv) {
   JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
@@ -52,9 +34,8 @@ void assembled(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X<do
   dfdv = kv.to_dense();
 }
 
-double max_relative_error(const Dense& a, const Dense& b) {
-  return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
-}
+using test::fd_jacobian;
+using test::max_relative_error;
 
 }  // namespace
 
