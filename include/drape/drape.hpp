@@ -35,6 +35,10 @@
 #include "drape/physics/spring_families.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
+#include "drape/physics/wind_field.hpp"
+#include "drape/physics/air_drag.hpp"
+#include "drape/physics/aerodynamic_force.hpp"
+#include "drape/physics/air.hpp"
 #include "drape/physics/diagnostics.hpp"
 
 // solvers: linear solvers and preconditioners (know nothing of cloth)

@@ -26,6 +26,11 @@ class ForceDerivatives {
   /// Adds \f$ \partial f_a / \partial x_b \f$ (`dfdx`, N/m) and \f$ \partial f_a / \partial v_b \f$
   /// (`dfdv`, N s/m). Either `a == b`, or the pair is one of the term's coupled_nodes().
   virtual void add(int a, int b, const Mat3<Scalar>& dfdx, const Mat3<Scalar>& dfdv) = 0;
+  /// True when the system must stay symmetric (the Symmetric and Spd Jacobian variants): a term
+  /// then adds only the symmetric part of its derivatives it can vouch for (e.g. a damping-like
+  /// velocity derivative) and leaves the rest explicit, as the Baraff-Witkin variant does with the
+  /// springs' damping term. False for the Exact variant: add every block.
+  virtual bool symmetric() const = 0;
 
  protected:
   ~ForceDerivatives() = default;

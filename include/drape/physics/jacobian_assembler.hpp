@@ -110,7 +110,7 @@ class JacobianAssembler {
                     LinearSystem<Scalar>& system) const;
   /// The force terms' share of the system (after write_system()).
   void add_terms(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time, Scalar dt,
-                 LinearSystem<Scalar>& system) const;
+                 JacobianVariant variant, LinearSystem<Scalar>& system) const;
   /// Block of (node a's row, node b's row); -1 if either is eliminated. \throws std::logic_error if
   /// a force term writes a pair it did not declare in coupled_nodes().
   int term_block(const BlockSparseMatrix<Scalar>& a, int node_a, int node_b) const;
@@ -263,7 +263,7 @@ void JacobianAssembler<Scalar>::assemble_system(const ConstRef3X<Scalar>& x, con
   else
     write_system<true>(x, v, dt, variant, system);
   system.edges.set_valid(variant != JacobianVariant::Exact);
-  if (!m_cloth->force_terms().empty()) add_terms(x, v, time, dt, system);
+  if (!m_cloth->force_terms().empty()) add_terms(x, v, time, dt, variant, system);
 }
 
 template <class Scalar>
@@ -281,8 +281,9 @@ template <class Scalar>
 class JacobianAssembler<Scalar>::SystemTermBlocks final : public ForceDerivatives<Scalar> {
  public:
   SystemTermBlocks(const JacobianAssembler& assembler, const ConstRef3X<Scalar>& v, Scalar dt,
-                   LinearSystem<Scalar>& system)
-      : m_assembler(assembler), m_v(v), m_dt(dt), m_system(system) {}
+                   LinearSystem<Scalar>& system, bool symmetric)
+      : m_assembler(assembler), m_v(v), m_dt(dt), m_system(system), m_symmetric(symmetric) {}
+  bool symmetric() const override { return m_symmetric; }
   void add(int a, int b, const Mat3<Scalar>& dfdx, const Mat3<Scalar>& dfdv) override {
     const int ra = m_assembler.m_row_of_node[static_cast<std::size_t>(a)];
     if (ra < 0) return;
@@ -302,14 +303,16 @@ class JacobianAssembler<Scalar>::SystemTermBlocks final : public ForceDerivative
   const ConstRef3X<Scalar>& m_v;
   Scalar m_dt;
   LinearSystem<Scalar>& m_system;
+  bool m_symmetric;
 };
 
 template <class Scalar>
 class JacobianAssembler<Scalar>::JacobianTermBlocks final : public ForceDerivatives<Scalar> {
  public:
   JacobianTermBlocks(const JacobianAssembler& assembler, BlockSparseMatrix<Scalar>& dfdx,
-                     BlockSparseMatrix<Scalar>& dfdv)
-      : m_assembler(assembler), m_dfdx(dfdx), m_dfdv(dfdv) {}
+                     BlockSparseMatrix<Scalar>& dfdv, bool symmetric)
+      : m_assembler(assembler), m_dfdx(dfdx), m_dfdv(dfdv), m_symmetric(symmetric) {}
+  bool symmetric() const override { return m_symmetric; }
   void add(int a, int b, const Mat3<Scalar>& dfdx, const Mat3<Scalar>& dfdv) override {
     const int block = m_assembler.term_block(m_dfdx, a, b);
     if (block < 0) return;
@@ -321,11 +324,12 @@ class JacobianAssembler<Scalar>::JacobianTermBlocks final : public ForceDerivati
   const JacobianAssembler& m_assembler;
   BlockSparseMatrix<Scalar>& m_dfdx;
   BlockSparseMatrix<Scalar>& m_dfdv;
+  bool m_symmetric;
 };
 
 template <class Scalar>
 void JacobianAssembler<Scalar>::add_terms(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time,
-                                          Scalar dt, LinearSystem<Scalar>& system) const {
+                                          Scalar dt, JacobianVariant variant, LinearSystem<Scalar>& system) const {
   m_term_forces.setZero();
   for (const auto& term : m_cloth->force_terms()) term->add_force(x, v, time, m_term_forces);
   for (int r = 0; r < system_nodes(); ++r) {
@@ -334,7 +338,7 @@ void JacobianAssembler<Scalar>::add_terms(const ConstRef3X<Scalar>& x, const Con
   }
   if (!m_term_derivatives) return;
   for (int block : m_term_only_blocks) system.matrix.block(block).setZero();
-  SystemTermBlocks blocks(*this, v, dt, system);
+  SystemTermBlocks blocks(*this, v, dt, system, variant != JacobianVariant::Exact);
   for (const auto& term : m_cloth->force_terms())
     if (term->has_derivatives()) term->add_derivatives(x, v, time, blocks);
   system.edges.invalidate();  // its diagonal is the mass alone
@@ -488,7 +492,7 @@ void JacobianAssembler<Scalar>::assemble_jacobians(const ConstRef3X<Scalar>& x, 
     }
   });
   if (!m_term_derivatives) return;
-  JacobianTermBlocks blocks(*this, dfdx, dfdv);
+  JacobianTermBlocks blocks(*this, dfdx, dfdv, variant != JacobianVariant::Exact);
   for (const auto& term : m_cloth->force_terms())
     if (term->has_derivatives()) term->add_derivatives(x, v, time, blocks);
 }

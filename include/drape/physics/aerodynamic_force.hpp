@@ -1,0 +1,178 @@
+#pragma once
+/// \file aerodynamic_force.hpp
+/// Aerodynamic drag and lift on every triangle of the cloth, from the relative wind.
+///
+/// For a triangle with corners a, b, c let \f$ N = \tfrac12 (x_b - x_a) \times (x_c - x_a) \f$ (its
+/// area A times its unit normal n), \f$ v = \tfrac13 (v_a + v_b + v_c) - w(\bar x, t) \f$ its
+/// velocity relative to the air at its centroid \f$ \bar x \f$, \f$ s = v \cdot N = A\, (v \cdot n) \f$
+/// and \f$ q = |v| \f$. With \f$ k_d = \tfrac12 \rho C_d \f$ and \f$ k_l = \tfrac12 \rho C_l \f$:
+/// \f[ f_d = -k_d A\, |v \cdot n|\, (v \cdot n)\, n = -k_d \frac{|s|\, s}{N \cdot N} N, \f]
+/// drag along the normal, quadratic in the normal relative velocity (a plate moving along its
+/// normal at speed u feels \f$ \tfrac12 \rho C_d A u^2 \f$);
+/// \f[ f_l = -k_l A\, q\, (v \cdot n)\, (n - (n \cdot \hat v)\, \hat v) = -\frac{k_l}{|N|} \Bigl(s q N - \frac{s^2}{q} v\Bigr), \f]
+/// lift perpendicular to the relative wind, in the plane of n and v, of magnitude
+/// \f$ \tfrac12 \rho C_l A q^2 \sin\alpha \cos\alpha \f$ at angle of attack \f$ \alpha \f$ (largest at
+/// 45 degrees, zero for a plate along or across the flow). Each corner receives a third of
+/// \f$ f_d + f_l \f$. Both are independent of the triangle's orientation (N and -N give the same
+/// force).
+///
+/// Derivatives (exact, tested against finite differences): with \f$ J_v = \partial f/\partial v \f$,
+/// \f$ J_N = \partial f / \partial N \f$, \f$ \partial N/\partial x_a = \tfrac12 [x_c - x_b]_\times \f$
+/// (cyclic) and \f$ G = \partial w / \partial x \f$ at the centroid,
+/// \f$ \partial f_i / \partial v_j = J_v / 9 \f$ and
+/// \f$ \partial f_i / \partial x_j = \tfrac13 (J_N\, \partial N/\partial x_j - \tfrac13 J_v G) \f$.
+/// A symmetric system (Symmetric and Spd Jacobians) receives only the drag's velocity derivative
+/// \f$ -2 k_d |s|\, N N^T / (9\, N \cdot N) \f$ for every corner pair, which is symmetric and damping
+/// (negative semi-definite); the rest stays explicit. The Exact Jacobian receives every block.
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "drape/core/force_term.hpp"
+#include "drape/core/validation.hpp"
+#include "drape/physics/wind_field.hpp"
+
+namespace drape {
+
+struct AerodynamicSettings {
+  double density = 1.2;           ///< kg/m^3, air
+  double drag_coefficient = 1.0;  ///< C_d (a flat plate across the flow: about 1.2)
+  double lift_coefficient = 0.0;  ///< C_l
+
+  /// \throws InvalidParameter naming `air density`, `drag coefficient` or `lift coefficient`
+  /// unless each is finite and >= 0.
+  void validate() const {
+    detail::require_nonnegative_finite("air density", density);
+    detail::require_nonnegative_finite("drag coefficient", drag_coefficient);
+    detail::require_nonnegative_finite("lift coefficient", lift_coefficient);
+  }
+};
+
+template <class Scalar = double>
+class AerodynamicForce final : public ForceTerm<Scalar> {
+ public:
+  /// `triangles`: node ids of the cloth's triangles (Grid::triangles()).
+  /// \throws InvalidParameter as AerodynamicSettings::validate().
+  AerodynamicForce(std::vector<std::array<int, 3>> triangles, WindField<Scalar> wind, const AerodynamicSettings& settings)
+      : m_triangles(std::move(triangles)), m_wind(std::move(wind)) {
+    settings.validate();
+    m_kd = Scalar(0.5 * settings.density * settings.drag_coefficient);
+    m_kl = Scalar(0.5 * settings.density * settings.lift_coefficient);
+  }
+
+  std::string name() const override { return "aerodynamic force"; }
+  const WindField<Scalar>& wind() const { return m_wind; }
+
+  /// The aerodynamic force on one triangle (before it is split between the corners) for corner
+  /// positions and velocities, and (when the pointers are given) its derivatives J_v and J_N.
+  Vec3<Scalar> triangle_force(const Vec3<Scalar>& xa, const Vec3<Scalar>& xb, const Vec3<Scalar>& xc,
+                              const Vec3<Scalar>& v, Mat3<Scalar>* jv = nullptr, Mat3<Scalar>* jn = nullptr,
+                              bool drag_velocity_only = false) const;
+
+  void add_force(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f) const override {
+    for (const auto& [a, b, c] : m_triangles) {
+      const Vec3<Scalar> third = triangle_force(x.col(a), x.col(b), x.col(c), relative_velocity(x, v, a, b, c, t)) / 3;
+      f.col(a) += third;
+      f.col(b) += third;
+      f.col(c) += third;
+    }
+  }
+
+  std::vector<std::array<int, 2>> coupled_nodes() const override {
+    std::vector<std::array<int, 2>> pairs;
+    pairs.reserve(3 * m_triangles.size());
+    for (const auto& [a, b, c] : m_triangles) {
+      pairs.push_back({a, b});
+      pairs.push_back({b, c});
+      pairs.push_back({a, c});
+    }
+    return pairs;
+  }
+
+  bool has_derivatives() const override { return m_kd > 0 || m_kl > 0; }
+  void add_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t,
+                       ForceDerivatives<Scalar>& out) const override;
+
+ private:
+  Vec3<Scalar> relative_velocity(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, int a, int b, int c,
+                                 Scalar t) const {
+    const Vec3<Scalar> centroid = (x.col(a) + x.col(b) + x.col(c)) / 3;
+    return (v.col(a) + v.col(b) + v.col(c)) / 3 - m_wind.velocity(centroid, t);
+  }
+  /// \f$ [u]_\times \f$: the matrix of y -> u x y.
+  static Mat3<Scalar> cross_matrix(const Vec3<Scalar>& u) {
+    Mat3<Scalar> m;
+    m << 0, -u.z(), u.y(), u.z(), 0, -u.x(), -u.y(), u.x(), 0;
+    return m;
+  }
+
+  std::vector<std::array<int, 3>> m_triangles;
+  WindField<Scalar> m_wind;
+  Scalar m_kd = 0, m_kl = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+
+template <class Scalar>
+Vec3<Scalar> AerodynamicForce<Scalar>::triangle_force(const Vec3<Scalar>& xa, const Vec3<Scalar>& xb,
+                                                      const Vec3<Scalar>& xc, const Vec3<Scalar>& v, Mat3<Scalar>* jv,
+                                                      Mat3<Scalar>* jn, bool drag_velocity_only) const {
+  const Vec3<Scalar> n = Scalar(0.5) * (xb - xa).cross(xc - xa);
+  const Scalar nn = n.squaredNorm();
+  if (jv) jv->setZero();
+  if (jn) jn->setZero();
+  if (!(nn > 0)) return Vec3<Scalar>::Zero();  // a degenerate triangle has no area
+  const Scalar s = v.dot(n), abs_s = std::abs(s);
+  // Drag: f_d = -k_d |s| s N / (N.N).
+  Vec3<Scalar> f = (-m_kd * abs_s * s / nn) * n;
+  if (jv) *jv = (-m_kd * 2 * abs_s / nn) * (n * n.transpose());
+  if (drag_velocity_only) return f;
+  const Mat3<Scalar> id = Mat3<Scalar>::Identity();
+  if (jn) *jn = -m_kd * ((2 * abs_s / nn) * (n * v.transpose()) + (abs_s * s / nn) * id - (2 * abs_s * s / (nn * nn)) * (n * n.transpose()));
+  const Scalar q = v.norm();
+  if (m_kl == 0 || !(q > Scalar(1e-12))) return f;
+  // Lift: f_l = -(k_l / |N|) (s q N - s^2 v / q).
+  const Scalar len = std::sqrt(nn);
+  f += (-m_kl / len) * (s * q * n - (s * s / q) * v);
+  if (jv) {
+    const Mat3<Scalar> d_t1 = n * (q * n.transpose() + (s / q) * v.transpose());
+    const Mat3<Scalar> d_t2 = (2 * s / q) * (v * n.transpose()) + (s * s / q) * id - (s * s / (q * q * q)) * (v * v.transpose());
+    *jv += (-m_kl / len) * (d_t1 - d_t2);
+  }
+  if (jn) {
+    const Mat3<Scalar> d_t1 = (q / len) * (n * v.transpose() + s * id) - (s * q / (len * nn)) * (n * n.transpose());
+    const Mat3<Scalar> d_t2 = (2 * s / (q * len)) * (v * v.transpose()) - (s * s / (q * len * nn)) * (v * n.transpose());
+    *jn += -m_kl * (d_t1 - d_t2);
+  }
+  return f;
+}
+
+template <class Scalar>
+void AerodynamicForce<Scalar>::add_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t,
+                                               ForceDerivatives<Scalar>& out) const {
+  const bool symmetric = out.symmetric();
+  const Mat3<Scalar> zero = Mat3<Scalar>::Zero();
+  for (const auto& [a, b, c] : m_triangles) {
+    const std::array<int, 3> corner{a, b, c};
+    const Vec3<Scalar> vr = relative_velocity(x, v, a, b, c, t);
+    Mat3<Scalar> jv, jn;
+    triangle_force(x.col(a), x.col(b), x.col(c), vr, &jv, &jn, symmetric);
+    const Mat3<Scalar> dfdv = jv / 9;
+    std::array<Mat3<Scalar>, 3> dfdx{zero, zero, zero};
+    if (!symmetric) {
+      // dN/dx_j = 1/2 [x_{j+2} - x_{j+1}]_x (cyclic); the centroid moves by dx_j / 3.
+      const Mat3<Scalar> wind = m_wind.uniform() ? zero : Mat3<Scalar>(jv * m_wind.gradient((x.col(a) + x.col(b) + x.col(c)) / 3, t) / 3);
+      for (int j = 0; j < 3; ++j) {
+        const Vec3<Scalar> edge = x.col(corner[(j + 2) % 3]) - x.col(corner[(j + 1) % 3]);
+        dfdx[j] = (jn * (Scalar(0.5) * cross_matrix(edge)) - wind) / 3;
+      }
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) out.add(corner[i], corner[j], dfdx[j], dfdv);
+  }
+}
+
+}  // namespace drape
