@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -90,6 +91,16 @@ TEST_CASE("drape-render rejects bad values before any work, naming the flag and 
       {"--elevation 90", "--elevation", "[-85, 85]"},
       {"--camera orbit", "--camera", "follow | fixed"},
       {"--frames 3 --duration 1", "--duration", "exclude"},
+      // The air's settings, checked by the library (AirSettings::validate), named by their flags.
+      {"--air-drag -1", "--air-drag", ">= 0"},
+      {"--wind 0 nan 0", "--wind", "finite"},
+      {"--air-density -1", "--air-density", ">= 0"},
+      {"--drag-coefficient -0.5", "--drag-coefficient", ">= 0"},
+      {"--lift-coefficient inf", "--lift-coefficient", ">= 0"},
+      {"--gust-amplitude -2", "--gust-amplitude", ">= 0"},
+      {"--gust-period 0", "--gust-period", "> 0"},
+      {"--gust-wavelength -1", "--gust-wavelength", "> 0"},
+      {"--gust-waves 65", "--gust-waves", "[1, 64]"},
   };
   for (const Case& c : cases) {
     const Result r = run(std::string(c.args) + o);
@@ -98,7 +109,7 @@ TEST_CASE("drape-render rejects bad values before any work, naming the flag and 
     REQUIRE_THAT(r.output, Catch::Contains(c.flag) && Catch::Contains(c.range));
   }
   // Parse errors come from CLI11 and also name the flag.
-  for (const char* args : {"--dt abc", "--no-such-flag", "--frames"}) {
+  for (const char* args : {"--dt abc", "--no-such-flag", "--frames", "--wind 1 2", "--gust-seed -1"}) {
     const Result r = run(std::string(args) + o);
     INFO(args << "\n" << r.output);
     REQUIRE(r.code != 0);
@@ -112,7 +123,10 @@ TEST_CASE("--help lists every flag with its default", "[cli]") {
   REQUIRE(r.code == 0);
   for (const char* s : {"--dt", "0.0005", "--structural-ks", "20000", "--boundary", "--pins", "--realtime-factor",
                         "--max-steps-per-frame", "--save-state", "--load-state", "--video", "--debug-gl", "--obj",
-                        "--integrator", "rk2", "--jacobian", "--solver", "--scene", "--frame-time"})
+                        "--integrator", "rk2", "--jacobian", "--solver", "--scene", "--frame-time", "--wind",
+                        "m/s", "--air-drag", "N s/m", "--air-density", "kg/m^3", "--drag-coefficient",
+                        "--lift-coefficient", "--gust-amplitude", "--gust-period", "--gust-wavelength", "--gust-waves",
+                        "--gust-seed", "[air] drag_coefficient", "[air.gusts] seed"})
     REQUIRE_THAT(r.output, Catch::Contains(s));
 }
 
@@ -299,5 +313,175 @@ TEST_CASE("--video assembles the frames with ffmpeg when it is installed", "[cli
   const Result bad = run(small + "--frames 2 --out " + (dir / "out").string() + " --video " + (dir / "cloth.avi").string());
   REQUIRE(bad.code == 2);
   REQUIRE_THAT(bad.output, Catch::Contains("--video") && Catch::Contains(".mp4"));
+  fs::remove_all(dir);
+}
+
+namespace {
+
+/// One air setting: its flag, its key in [air] or [air.gusts], a base value and another one.
+struct AirSetting {
+  const char* flag;
+  const char* table;
+  const char* key;
+  const char* base;
+  const char* other;
+  const char* base_toml;  // the same values as TOML
+  const char* other_toml;
+};
+
+// Every setting is active in the base (drag, both coefficients, gusts), so each one changes the run.
+const AirSetting air_settings[] = {
+    {"--wind", "air", "wind", "3 0 1", "3 1 1", "[3, 0, 1]", "[3.0, 1.0, 1.0]"},
+    {"--air-drag", "air", "drag", "0.01", "0.05", "0.01", "0.05"},
+    {"--air-density", "air", "density", "1.2", "0.9", "1.2", "0.9"},
+    {"--drag-coefficient", "air", "drag_coefficient", "1", "1.3", "1", "1.3"},
+    {"--lift-coefficient", "air", "lift_coefficient", "0.4", "0.1", "0.4", "0.1"},
+    {"--gust-amplitude", "air.gusts", "amplitude", "2", "1", "2", "1"},
+    {"--gust-period", "air.gusts", "period", "1.5", "0.7", "1.5", "0.7"},
+    {"--gust-wavelength", "air.gusts", "wavelength", "5", "2", "5", "2"},
+    {"--gust-waves", "air.gusts", "waves", "3", "5", "3", "5"},
+    {"--gust-seed", "air.gusts", "seed", "7", "8", "7", "8"},
+};
+
+/// The base settings as flags, setting `changed` (if >= 0) to its other value.
+std::string air_flags(int changed) {
+  std::string args;
+  for (int k = 0; k < int(std::size(air_settings)); ++k) {
+    const AirSetting& a = air_settings[k];
+    args += std::string(" ") + a.flag + " " + (k == changed ? a.other : a.base);
+  }
+  return args + " ";
+}
+
+/// The same as a scene file's [air] and [air.gusts] tables.
+std::string air_tables(int changed) {
+  std::string text;
+  for (const char* table : {"air", "air.gusts"}) {
+    text += std::string("[") + table + "]\n";
+    for (int k = 0; k < int(std::size(air_settings)); ++k) {
+      const AirSetting& a = air_settings[k];
+      if (std::string(a.table) == table) text += std::string(a.key) + " = " + (k == changed ? a.other_toml : a.base_toml) + "\n";
+    }
+  }
+  return text;
+}
+
+}  // namespace
+
+TEST_CASE("air: every flag and its [air] / [air.gusts] key set the same setting; flags win over the file", "[cli][air]") {
+  const fs::path dir = fresh_dir("air");
+  const std::string common = small + "--integrator implicit --dt 0.005 --frame-time 0.02 --frames 4 --no-csv ";
+  int runs = 0;
+  // Runs drape-render and returns its final state as text (17 digits: equal text, equal bits).
+  const auto state = [&](const std::string& args) {
+    const fs::path out = dir / std::to_string(runs++);
+    const Result r = run(common + args + " --out " + out.string() + " --save-state " + (out / "state").string());
+    INFO(args << "\n" << r.output);
+    REQUIRE(r.code == 0);
+    return read_text(out / "state");
+  };
+  const auto scene = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return " --scene " + (dir / name).string();
+  };
+  const std::string still = state("");
+  const std::string base_flags = state(air_flags(-1));
+  const std::string base_file = scene("base.toml", air_tables(-1));
+  REQUIRE(state(base_file) == base_flags);
+  REQUIRE(base_flags != still);
+  for (int k = 0; k < int(std::size(air_settings)); ++k) {
+    const AirSetting& a = air_settings[k];
+    INFO(a.flag << " / [" << a.table << "] " << a.key);
+    const std::string by_flag = state(air_flags(k));
+    REQUIRE(by_flag != base_flags);                                                   // the setting matters
+    REQUIRE(state(scene("changed.toml", air_tables(k))) == by_flag);                  // the key sets it too
+    REQUIRE(state(base_file + " " + a.flag + " " + a.other) == by_flag);              // the flag wins
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("air: bad values and keys in the scene file are errors naming the key", "[cli][air]") {
+  const fs::path dir = fresh_dir("air_errors");
+  struct Case {
+    const char* toml;
+    const char* extra_args;
+    std::vector<const char*> expected;
+  };
+  const Case cases[] = {
+      {"[air]\ndensity = -1\n", "", {"air.density = -1", ">= 0"}},
+      {"[air]\ndrag = -0.5\n", "", {"air.drag = -0.5", ">= 0"}},
+      {"[air]\nwind = [1, nan, 0]\n", "", {"air.wind = nan", "finite"}},
+      {"[air.gusts]\nwaves = 0\n", "", {"air.gusts.waves = 0", "[1, 64]"}},
+      {"[air.gusts]\nperiod = 0.0\n", "", {"air.gusts.period = 0", "> 0"}},
+      {"[air]\nfoo = 1\n", "", {"unknown key 'air.foo'"}},
+      {"[air.gusts]\nspeed = 1\n", "", {"unknown key 'air.gusts.speed'"}},
+      {"[air.weather]\nrain = 1\n", "", {"unknown key 'air.weather'"}},
+      {"[air]\ndrag-coefficient = 1\n", "", {"did you mean 'drag_coefficient' in table [air]"}},
+      {"air-drag = 0.1\n", "", {"unknown key 'air-drag'", "did you mean 'drag' in table [air]"}},
+      {"gust-seed = 3\n", "", {"did you mean 'seed' in table [air.gusts]"}},
+      {"air = 3\n", "", {"key 'air' must be a table"}},
+      {"[air]\ngusts = 2\n", "", {"key 'air.gusts' must be a table"}},
+      {"[air]\nwind = [1, 2]\n", "", {"key 'air.wind' must be an array of 3 numbers"}},
+      {"[air]\nwind = [1, \"2\", 3]\n", "", {"key 'air.wind' must be a number"}},
+      {"[air.gusts]\nwaves = 2.5\n", "", {"key 'air.gusts.waves' must be an integer"}},
+      {"[air.gusts]\nseed = -1\n", "", {"key 'air.gusts.seed' must be an integer >= 0"}},
+      // A flag's value is named by the flag even when the file has the table.
+      {"[air]\ndrag = 0.1\n", "--air-density -3", {"--air-density = -3", ">= 0"}},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(dir / "air.toml") << c.toml;
+    const Result r = run(small + "--scene " + (dir / "air.toml").string() + " " + c.extra_args + " --out " +
+                         (dir / "out").string());
+    INFO(c.toml << c.extra_args << "\n" << r.output);
+    REQUIRE(r.code == 2);
+    for (const char* e : c.expected) REQUIRE_THAT(r.output, Catch::Contains(e));
+  }
+  REQUIRE(!fs::exists(dir / "out"));  // nothing was run
+  // A bad value in the file that a flag overrides is never used.
+  std::ofstream(dir / "air.toml") << "[air]\ndrag = -1\n";
+  const Result r = run(small + "--frames 1 --scene " + (dir / "air.toml").string() + " --air-drag 0.5 --out " +
+                       (dir / "out").string());
+  INFO(r.output);
+  REQUIRE(r.code == 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("air: still air adds no force term, so the default run is unchanged", "[cli][air]") {
+  const fs::path dir = fresh_dir("still_air");
+  // Not --quiet: the summary line names the force terms added besides springs and gravity.
+  const std::string common = "--nx 8 --ny 8 --width 32 --height 24 --samples 1 --frames 3 --no-csv ";
+  int runs = 0;
+  const auto render = [&](const std::string& args, std::string& state) {
+    const fs::path out = dir / std::to_string(runs++);
+    const Result r = run(common + args + " --out " + out.string() + " --save-state " + (out / "state").string());
+    INFO(args << "\n" << r.output);
+    REQUIRE(r.code == 0);
+    state = read_text(out / "state");
+    return r.output;
+  };
+  std::string defaults, windy, dragged, aero;
+  const std::string none = render("", defaults);
+  REQUIRE_THAT(none, Catch::Contains("drape-render: 3 frames"));
+  REQUIRE_THAT(none, !Catch::Contains("air drag") && !Catch::Contains("aerodynamic"));
+  // Wind and gusts alone exert no force (nothing couples the cloth to the air): no term, same bits.
+  const std::string wind_only = render("--wind 5 0 2 --gust-amplitude 3 --air-density 2", windy);
+  REQUIRE_THAT(wind_only, !Catch::Contains("air drag") && !Catch::Contains("aerodynamic"));
+  REQUIRE(windy == defaults);
+  REQUIRE_THAT(render("--wind 5 0 2 --air-drag 0.05", dragged), Catch::Contains("with air drag)"));
+  REQUIRE(dragged != defaults);
+  REQUIRE_THAT(render("--wind 5 0 2 --lift-coefficient 0.3", aero), Catch::Contains("with aerodynamic force)"));
+  REQUIRE(aero != defaults);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("scenes/flag.toml runs its whole length without a failed step", "[cli][air]") {
+  // This file is tests/viewer/test_cli.cpp; the scene is scenes/flag.toml of the same tree.
+  const fs::path scene = fs::path(__FILE__).parent_path().parent_path().parent_path() / "scenes" / "flag.toml";
+  REQUIRE(fs::exists(scene));
+  const fs::path dir = fresh_dir("flag");
+  const Result r = run("--scene " + scene.string() + " --width 32 --height 24 --samples 1 --out " + (dir / "out").string());
+  INFO(r.output);
+  REQUIRE(r.code == 0);  // a failed step would exit with 3
+  REQUIRE_THAT(r.output, Catch::Contains("181 frames") && Catch::Contains("with air drag + aerodynamic force"));
   fs::remove_all(dir);
 }

@@ -323,8 +323,18 @@ bool make_video(const Settings& s, int frames_written) {
   return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
+/// The names of the cloth's force terms besides springs and gravity, for the summary line.
+std::string force_term_names(const drape::Clothd& cloth) {
+  std::string names;
+  for (const auto& term : cloth.force_terms()) names += (names.empty() ? "" : " + ") + term->name();
+  return names;
+}
+
 int run(const Settings& s) {
-  const drape::Clothd cloth(s.cloth);
+  // The scene plus the air's force terms (none in still air, so such a run is unchanged).
+  drape::ClothSpecd spec = s.cloth;
+  for (auto& term : drape::render::air_force_terms(s)) spec.force_terms.push_back(std::move(term));
+  const drape::Clothd cloth(spec);
   // Inputs and outputs are checked before any simulation or rendering.
   drape::Stated start = cloth.initial_state();
   if (!s.load_state.empty()) {
@@ -345,11 +355,14 @@ int run(const Settings& s) {
   if (!s.output.video.empty() && !make_video(s, run.frames_written()))
     stop(exit_runtime_error,
          "ffmpeg could not make '" + s.output.video + "' from the frames in '" + s.output.out + "'");
-  if (!s.output.quiet)
-    std::fprintf(stderr, "drape-render: %d frames in '%s', t = %.4g s simulated in %.3g s (%lld steps, %s, %s)%s\n",
+  if (!s.output.quiet) {
+    const std::string forces = force_term_names(cloth);
+    std::fprintf(stderr, "drape-render: %d frames in '%s', t = %.4g s simulated in %.3g s (%lld steps, %s, %s%s)%s\n",
                  run.frames_written(), s.output.out.c_str(), run.state().time, wall, run.steps(),
                  drape::to_string(s.integrator), s.time.realtime ? "real time" : "offline",
+                 forces.empty() ? "" : (", with " + forces).c_str(),
                  s.output.video.empty() ? "" : (", video " + s.output.video).c_str());
+  }
   return 0;
 }
 

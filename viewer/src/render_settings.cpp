@@ -4,10 +4,12 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
 #include <map>
+#include <set>
 #include <sstream>
 #include <type_traits>
 #include <unistd.h>
@@ -64,16 +66,52 @@ const std::map<std::string, std::string>& flag_of_parameter() {
       {"realtime_factor", "--realtime-factor"},
       {"max_steps_per_frame", "--max-steps-per-frame"},
       {"camera", "--camera"},
+      {"wind", "--wind"},
+      {"air drag", "--air-drag"},
+      {"air density", "--air-density"},
+      {"drag coefficient", "--drag-coefficient"},
+      {"lift coefficient", "--lift-coefficient"},
+      {"gust amplitude", "--gust-amplitude"},
+      {"gust period", "--gust-period"},
+      {"gust wavelength", "--gust-wavelength"},
+      {"gust waves", "--gust-waves"},
   };
   return flags;
 }
 
-/// Runs a library check; its InvalidParameter becomes a SettingsError naming the flag.
+/// The scene-file key of each library parameter whose key is not its flag without "--" (the air's,
+/// in the tables [air] and [air.gusts]), for error messages about values from the file.
+const std::map<std::string, std::string>& key_of_parameter() {
+  static const std::map<std::string, std::string> keys = {
+      {"wind", "air.wind"},
+      {"air drag", "air.drag"},
+      {"air density", "air.density"},
+      {"drag coefficient", "air.drag_coefficient"},
+      {"lift coefficient", "air.lift_coefficient"},
+      {"gust amplitude", "air.gusts.amplitude"},
+      {"gust period", "air.gusts.period"},
+      {"gust wavelength", "air.gusts.wavelength"},
+      {"gust waves", "air.gusts.waves"},
+  };
+  return keys;
+}
+
+/// The scene-file keys whose values were taken from the file (not overridden by a flag).
+struct FileKeys {
+  std::string file;
+  std::set<std::string> keys;
+};
+
+/// Runs a library check; its InvalidParameter becomes a SettingsError naming the flag, or the
+/// scene-file key when the value came from the file under a key that is not the flag's name.
 template <class Check>
-void checked(Check&& check) {
+void checked(Check&& check, const FileKeys& from_file = {}) {
   try {
     check();
   } catch (const InvalidParameter& e) {
+    const auto key = key_of_parameter().find(e.parameter());
+    if (key != key_of_parameter().end() && from_file.keys.count(key->second))
+      fail("scene file '" + from_file.file + "': " + key->second, e.value(), e.allowed());
     const auto it = flag_of_parameter().find(e.parameter());
     if (it == flag_of_parameter().end()) throw SettingsError(e.what());
     fail(it->second, e.value(), e.allowed());
@@ -112,9 +150,17 @@ T from_toml(const toml::node& n, const std::string& key, const std::string& file
   } else if constexpr (std::is_same_v<T, bool>) {
     if (!n.is_boolean()) bad_key(file, key, "must be true or false");
     return *n.value<bool>();
+  } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+    if (!n.is_integer() || *n.value<std::int64_t>() < 0) bad_key(file, key, "must be an integer >= 0");
+    return static_cast<std::uint64_t>(*n.value<std::int64_t>());
   } else if constexpr (std::is_same_v<T, std::string>) {
     if (!n.is_string()) bad_key(file, key, "must be a string");
     return *n.value<std::string>();
+  } else if constexpr (std::is_same_v<T, std::array<double, 3>>) {
+    const toml::array* a = n.as_array();
+    if (!a || a->size() != 3) bad_key(file, key, "must be an array of 3 numbers [x, y, z]");
+    return {from_toml<double>((*a)[0], key, file), from_toml<double>((*a)[1], key, file),
+            from_toml<double>((*a)[2], key, file)};
   } else {
     static_assert(std::is_same_v<T, std::vector<int>>, "unsupported setting type");
     const toml::array* a = n.as_array();
@@ -139,14 +185,35 @@ class Bindings {
   /// A number, string or switch, stored as is.
   template <class T>
   CLI::Option* value(const std::string& key, T& field, const std::string& help, const char* group) {
+    return value_as("--" + key, key, field, help, group);
+  }
+
+  /// The same for a flag whose scene-file key is not its name (`key` may be a dotted path into a
+  /// table, "air.gusts.seed").
+  template <class T>
+  CLI::Option* value_as(const std::string& flag, const std::string& key, T& field, const std::string& help,
+                        const char* group) {
     CLI::Option* opt;
     if constexpr (std::is_same_v<T, bool>)
-      opt = m_app.add_flag("--" + key, field, help);
+      opt = m_app.add_flag(flag, field, help);
     else
-      opt = m_app.add_option("--" + key, field, help);
+      opt = m_app.add_option(flag, field, help);
     opt->group(group);
     m_keys[key] = {opt,
                    [&field, key](const toml::node& n, const std::string& file) { field = from_toml<T>(n, key, file); }};
+    return opt;
+  }
+
+  /// A vector (x, y, z): three numbers after the flag, an array of three in the scene file.
+  CLI::Option* vector_as(const std::string& flag, const std::string& key, std::array<double, 3>& field,
+                         const std::string& help, const char* group) {
+    CLI::Option* opt = m_app.add_option_function<std::vector<double>>(
+        flag, [&field](const std::vector<double>& v) { field = {v.at(0), v.at(1), v.at(2)}; }, help);
+    opt->expected(3)->type_name("FLOAT")->default_str(number(field[0]) + " " + number(field[1]) + " " + number(field[2]));
+    opt->group(group);
+    m_keys[key] = {opt, [&field, key](const toml::node& n, const std::string& file) {
+                     field = from_toml<std::array<double, 3>>(n, key, file);
+                   }};
     return opt;
   }
 
@@ -178,6 +245,62 @@ class Bindings {
   std::map<std::string, Binding>& m_keys;
 };
 
+/// The tables of a scene file (every other key is a setting).
+bool is_table_key(const std::string& key) { return key == "air" || key == "air.gusts"; }
+
+/// "air.gusts.seed" -> "'seed' in table [air.gusts]", "dt" -> "'dt'", for messages.
+std::string key_in_table(const std::string& key) {
+  const std::size_t dot = key.rfind('.');
+  return dot == std::string::npos ? "'" + key + "'"
+                                  : "'" + key.substr(dot + 1) + "' in table [" + key.substr(0, dot) + "]";
+}
+
+[[noreturn]] void unknown_key(const std::string& file, const std::string& key,
+                              const std::map<std::string, Binding>& keys) {
+  std::string hint;
+  // frame_time -> frame-time (flag names), air.drag-coefficient -> air.drag_coefficient (air keys).
+  const std::size_t dot = key.rfind('.');
+  const std::size_t tail = dot == std::string::npos ? 0 : dot + 1;
+  std::string dashed = key, underscored = key;
+  std::replace(dashed.begin() + long(tail), dashed.end(), '_', '-');
+  std::replace(underscored.begin() + long(tail), underscored.end(), '-', '_');
+  for (const std::string& guess : {dashed, underscored})
+    if (hint.empty() && guess != key && keys.count(guess)) hint = " (did you mean " + key_in_table(guess) + "?)";
+  // A flag's name used as a key where the key is in a table: air-drag -> 'drag' in table [air].
+  for (const auto& [other, binding] : keys)
+    if (hint.empty() && other != key && binding.option->get_name() == "--" + dashed)
+      hint = " (did you mean " + key_in_table(other) + "?)";
+  throw SettingsError("scene file '" + file + "': unknown key '" + key + "'" + hint +
+                      "; the keys are the flag names of --help without '--', the air's in the tables [air] and "
+                      "[air.gusts]");
+}
+
+/// Applies the keys of a scene-file table (`prefix` "" for the top level, "air." for [air], ...)
+/// that no flag overrides; records which keys it applied.
+void apply_table(const toml::table& table, const std::string& prefix, std::map<std::string, Binding>& keys,
+                 Settings& s, const CLI::Option* frames, const CLI::Option* duration, FileKeys& from_file) {
+  for (const auto& [k, node] : table) {
+    const std::string key = prefix + std::string(k.str());
+    if (is_table_key(key)) {
+      const toml::table* sub = node.as_table();
+      if (!sub) bad_key(s.scene, key, "must be a table ([" + key + "])");
+      apply_table(*sub, key + ".", keys, s, frames, duration, from_file);
+      continue;
+    }
+    const auto it = keys.find(key);
+    if (it == keys.end()) unknown_key(s.scene, key, keys);
+    if (it->second.option->count() > 0) continue;  // the command line wins
+    // ... also over the file's alternative to what it set.
+    if ((key == "frames" && duration->count() > 0) || (key == "duration" && frames->count() > 0) ||
+        (key == "pins" && keys["boundary"].option->count() > 0))
+      continue;
+    it->second.apply(node, s.scene);
+    from_file.keys.insert(key);
+    if (key == "frames") s.time.frames_given = true;
+    if (key == "duration") s.time.duration_given = true;
+  }
+}
+
 void set_boundary(Settings& s, int number) {
   require_range("--boundary", number, 1, 2);
   s.cloth.boundary = static_cast<drape::BoundaryCondition>(number);
@@ -197,7 +320,9 @@ std::string find_on_path(const std::string& program) {
   return "";
 }
 
-void validate(const Settings& s) {
+namespace {
+
+void validate(const Settings& s, const FileKeys& from_file) {
   // The library's settings, by the library's rules.
   checked([&] { s.cloth.validate(); });
   checked([&] {
@@ -207,6 +332,7 @@ void validate(const Settings& s) {
       s.stepping.IntegratorOptions::validate();
   });
   checked([&] { s.realtime.validate(); });
+  checked([&] { s.air.validate(); }, from_file);
   // The viewer's own.
   const TimeLine& t = s.time;
   if (!(std::isfinite(t.frame_time) && t.frame_time > 0 && t.frame_time <= 10))
@@ -235,10 +361,22 @@ void validate(const Settings& s) {
   }
 }
 
+}  // namespace
+
+void validate(const Settings& s) { validate(s, {}); }
+
+std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(const Settings& s) {
+  s.air.validate();
+  if (!s.air.active()) return {};
+  const drape::Grid<double> grid(s.cloth.nx, s.cloth.ny, s.cloth.spacing, s.cloth.node_mass);
+  return drape::air_force_terms<double>(s.air, grid.triangles());
+}
+
 bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   CLI::App app{
       "drape-render: simulate a hanging mass-spring cloth and render it to PNG frames offscreen (OSMesa).\n"
-      "Every flag is also a key of the TOML scene file given with --scene; flags override the file."};
+      "Every flag is also a key of the TOML scene file given with --scene; flags override the file.\n"
+      "The air's flags are keys of the tables [air] and [air.gusts], named in their help."};
   app.option_defaults()->always_capture_default();
   app.get_formatter()->column_width(34);
   std::map<std::string, Binding> keys;
@@ -282,6 +420,43 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   bind.value("threads", i.threads, "threads for the simulation, 0 = all cores", sim);
   bind.value("load-state", s.load_state, "start from a state saved with --save-state", sim);
 
+  const char* air = "Air (scene file: tables [air] and [air.gusts])";
+  drape::AirSettings& a = s.air;
+  bind.vector_as("--wind", "air.wind", a.wind,
+                 "X Y Z: mean wind in m/s (moves the cloth only through --air-drag or the aerodynamic coefficients); "
+                 "[air] wind = [x, y, z]",
+                 air);
+  bind.value_as("--air-drag", "air.drag", a.drag,
+                "linear drag on every node in N s/m, -c (v - wind), >= 0 (0: off); [air] drag", air);
+  bind.value_as("--air-density", "air.density", a.aerodynamics.density,
+                "air density in kg/m^3 for the aerodynamic force, >= 0; [air] density", air);
+  bind.value_as("--drag-coefficient", "air.drag_coefficient", a.aerodynamics.drag_coefficient,
+                "aerodynamic drag coefficient C_d of every triangle, >= 0 (a flat plate: ~1.2; the aerodynamic "
+                "force is on when C_d or C_l > 0); [air] drag_coefficient",
+                air);
+  bind.value_as("--lift-coefficient", "air.lift_coefficient", a.aerodynamics.lift_coefficient,
+                "aerodynamic lift coefficient C_l of every triangle, >= 0; [air] lift_coefficient", air);
+  bind.value_as("--gust-amplitude", "air.gusts.amplitude", a.gusts.amplitude,
+                "largest gust speed in m/s added to the wind, >= 0 (0: no gusts); [air.gusts] amplitude", air);
+  bind.value_as("--gust-period", "air.gusts.period", a.gusts.period,
+                "typical time between gusts in s, > 0; [air.gusts] period", air);
+  bind.value_as("--gust-wavelength", "air.gusts.wavelength", a.gusts.wavelength,
+                "typical size of a gust in m, > 0; [air.gusts] wavelength", air);
+  bind.value_as("--gust-waves", "air.gusts.waves", a.gusts.waves,
+                "travelling waves summed into the gusts, [1, 64]; [air.gusts] waves", air);
+  bind.value_as("--gust-seed", "air.gusts.seed", a.gusts.seed,
+                "seed of the gusts (the same seed gives the same gusts everywhere), >= 0; [air.gusts] seed", air)
+      ->check(  // CLI11 would read -1 into the unsigned seed as 2^64 - 1, and 2^64 as 2^64 - 1
+          [](const std::string& text) {
+            const std::string bad = text + " is invalid; allowed: an integer in [0, 2^64 - 1]";
+            if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return bad;
+            errno = 0;
+            static_assert(sizeof(unsigned long long) == sizeof(std::uint64_t), "strtoull reads the whole seed");
+            std::strtoull(text.c_str(), nullptr, 10);
+            return errno == ERANGE ? bad : std::string();
+          },
+          "", "");
+
   const char* time = "Time line";
   CLI::Option* frames = bind.value("frames", s.time.frames, "frames to render, [1, 10000000]", time);
   CLI::Option* duration = bind.value(
@@ -321,6 +496,7 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   s.time.frames_given = frames->count() > 0;
   s.time.duration_given = duration->count() > 0;
 
+  FileKeys from_file{s.scene, {}};
   if (!s.scene.empty()) {
     toml::table table;
     try {
@@ -330,28 +506,9 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
       where << e.source().begin;
       throw SettingsError("scene file '" + s.scene + "': " + std::string(e.description()) + " (" + where.str() + ")");
     }
-    for (const auto& [k, node] : table) {
-      const std::string key(k.str());
-      const auto it = keys.find(key);
-      if (it == keys.end()) {
-        std::string hint;
-        std::string dashed = key;
-        std::replace(dashed.begin(), dashed.end(), '_', '-');
-        if (keys.count(dashed)) hint = " (did you mean '" + dashed + "'?)";
-        throw SettingsError("scene file '" + s.scene + "': unknown key '" + key + "'" + hint +
-                            "; the keys are the flag names of --help without '--'");
-      }
-      if (it->second.option->count() > 0) continue;  // the command line wins
-      // ... also over the file's alternative to what it set.
-      if ((key == "frames" && duration->count() > 0) || (key == "duration" && frames->count() > 0) ||
-          (key == "pins" && keys["boundary"].option->count() > 0))
-        continue;
-      it->second.apply(node, s.scene);
-      if (key == "frames") s.time.frames_given = true;
-      if (key == "duration") s.time.duration_given = true;
-    }
+    apply_table(table, "", keys, s, frames, duration, from_file);
   }
-  validate(s);
+  validate(s, from_file);
   return true;
 }
 

@@ -1,17 +1,21 @@
 #pragma once
 // drape-render's settings: the library's own option structs (the scene, the integrator's options,
-// the real-time driver's settings), which the library validates, plus the viewer's time line and
-// output. Every field is a command-line flag and the same key of a TOML scene file.
+// the real-time driver's settings, the air), which the library validates, plus the viewer's time
+// line and output. Every field is a command-line flag and a key of a TOML scene file: the same
+// name at the top level, except the air's, which are keys of the tables [air] and [air.gusts].
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
 
 #include "drape/core/cloth.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/integrator.hpp"
+#include "drape/physics/air.hpp"
 #include "drape/realtime/realtime_driver.hpp"
 
 namespace drape::render {
@@ -60,6 +64,9 @@ struct Settings {
   drape::ImplicitOptions stepping;  ///< dt and threads (every integrator), the implicit options
   /// The driver's settings; the viewer caps at 200 steps per frame (the library's default is 64).
   drape::RealtimeSettings realtime{1.0, 200};
+  /// Wind, gusts, linear drag and aerodynamic drag and lift; still and inactive by default (no
+  /// force term is added, drape::air_force_terms()).
+  drape::AirSettings air;
 
   TimeLine time;
   Output output;
@@ -73,6 +80,10 @@ bool parse_settings(int argc, char** argv, Settings& settings, int& exit_code);
 
 /// The checks of parse_settings() on their own. \throws SettingsError naming the flag.
 void validate(const Settings& s);
+
+/// The force terms of `s.air` for the cloth of `s.cloth` (drape::air_force_terms()); none when the
+/// air exerts no force (AirSettings::active() is false), so a still-air run is unchanged.
+std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(const Settings& s);
 
 /// The executable path of `program` on PATH, or "" if it is not installed.
 std::string find_on_path(const std::string& program);

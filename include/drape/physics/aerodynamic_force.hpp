@@ -31,6 +31,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "drape/core/force_term.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/physics/wind_field.hpp"
