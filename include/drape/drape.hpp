@@ -19,6 +19,7 @@
 #include "drape/core/pins.hpp"
 #include "drape/core/state.hpp"
 #include "drape/core/force_term.hpp"
+#include "drape/core/collider.hpp"
 #include "drape/core/cloth.hpp"
 
 // linalg: 3x3 block storage and the linear system solvers are handed
@@ -28,6 +29,7 @@
 #include "drape/linalg/grid_layout.hpp"
 #include "drape/linalg/constraint_filter.hpp"
 #include "drape/linalg/linear_system.hpp"
+#include "drape/linalg/filtered_system.hpp"
 
 // physics: forces, their derivatives, the system assembly, diagnostics
 #include "drape/physics/spring_kernel.hpp"
@@ -39,6 +41,7 @@
 #include "drape/physics/air_drag.hpp"
 #include "drape/physics/aerodynamic_force.hpp"
 #include "drape/physics/air.hpp"
+#include "drape/physics/contact_handler.hpp"
 #include "drape/physics/diagnostics.hpp"
 
 // solvers: linear solvers and preconditioners (know nothing of cloth)

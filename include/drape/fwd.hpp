@@ -17,6 +17,8 @@ class Cloth;
 template <class Scalar>
 class ForceTerm;
 template <class Scalar>
+class Collider;
+template <class Scalar>
 class ForceAssembler;
 template <class Scalar>
 class JacobianAssembler;
@@ -46,6 +48,8 @@ using ClothSpecd = ClothSpec<double>;
 using ClothSpecf = ClothSpec<float>;
 using Clothd = Cloth<double>;
 using Clothf = Cloth<float>;
+using Colliderd = Collider<double>;
+using Colliderf = Collider<float>;
 using LinearSystemd = LinearSystem<double>;
 using LinearSystemf = LinearSystem<float>;
 using Rk2d = Rk2<double>;

@@ -132,6 +132,12 @@ TEST_CASE("a solver object from the caller: used as given, validated by its own 
   o.solver = LinearSolverKind::Lu;
   o.pin_treatment = PinTreatment::Eliminate;
   CHECK_NOTHROW(ImplicitEulerd(cloth, o, std::make_unique<CountingSolver>(like_cg)));
+  // Contacts are constraints of the solve: a solver without them cannot take colliders.
+  ClothSpecd with_floor = test::small_spec<double>(6, 10.0);
+  with_floor.colliders.push_back(Colliderd::plane(Vec3<double>(0, -1, 0), Vec3<double>(0, 1, 0)));
+  const Clothd on_floor(with_floor);
+  CHECK_THROWS_WITH(ImplicitEulerd(on_floor, o, std::make_unique<CountingSolver>(SolverCapabilities{true, false, true})),
+                    Catch::Contains("'solver'") && Catch::Contains("colliders"));
 }
 
 TEST_CASE("node data in the caller's memory (Eigen::Map) is used without a copy", "[integrator][ref]") {

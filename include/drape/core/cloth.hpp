@@ -4,10 +4,13 @@
 /// (grid, springs, pins, gravity and any further force terms), shared read-only by the assemblers
 /// and integrators. The time step belongs to the integrator (integrators/integrator.hpp).
 
+#include <algorithm>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
 
+#include "drape/core/collider.hpp"
 #include "drape/core/force_term.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/pins.hpp"
@@ -32,6 +35,10 @@ struct ClothSpec {
   std::optional<std::vector<int>> pinned_nodes;
   /// Forces besides springs and gravity (core/force_term.hpp); none by default.
   std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms;
+  /// Rigid bodies the cloth collides with (core/collider.hpp); none by default.
+  std::vector<Collider<Scalar>> colliders;
+  /// m: the cloth's half-thickness; nodes rest this far from a collider's surface.
+  Scalar contact_thickness = Scalar(0.005);
 
   static constexpr SpringCoefficients<Scalar> default_springs() {
     return {{Scalar(20000), Scalar(10)}, {Scalar(5000), Scalar(5)}, {Scalar(500), Scalar(1)}};
@@ -48,6 +55,7 @@ struct ClothSpec {
       Pins::validate(boundary);
     for (const auto& term : force_terms)
       if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
+    detail::require_nonnegative_finite("contact thickness", contact_thickness);
   }
 };
 
@@ -60,21 +68,30 @@ class Cloth {
         m_springs(m_grid, spec.springs),
         m_pins(spec.pinned_nodes ? Pins(*spec.pinned_nodes, m_grid.node_count()) : Pins::preset(spec.boundary, m_grid)),
         m_gravity(Scalar(0), -spec.gravity, Scalar(0)),
-        m_force_terms(spec.force_terms) {}
+        m_force_terms(spec.force_terms),
+        m_colliders(spec.colliders),
+        m_contact_thickness(spec.contact_thickness) {
+    require_pins_clear_of_colliders();
+  }
 
   Cloth(Grid<Scalar> grid, SpringSet<Scalar> springs, Pins pins, const Vec3<Scalar>& gravity,
-        std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms = {})
+        std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms = {},
+        std::vector<Collider<Scalar>> colliders = {}, Scalar contact_thickness = Scalar(0.005))
       : m_grid(std::move(grid)),
         m_springs(std::move(springs)),
         m_pins(std::move(pins)),
         m_gravity(gravity),
-        m_force_terms(std::move(force_terms)) {
+        m_force_terms(std::move(force_terms)),
+        m_colliders(std::move(colliders)),
+        m_contact_thickness(contact_thickness) {
     if (m_pins.mask().size() != static_cast<std::size_t>(m_grid.node_count()))
       detail::fail_argument("pins", "a pin set for " + detail::to_text(m_pins.mask().size()) + " nodes",
                             "a pin set built for this grid's " + detail::to_text(m_grid.node_count()) + " nodes");
     if (!m_gravity.allFinite()) detail::fail_argument("gravity", "non-finite vector", "finite");
     for (const auto& term : m_force_terms)
       if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
+    detail::require_nonnegative_finite("contact thickness", m_contact_thickness);
+    require_pins_clear_of_colliders();
   }
 
   const Grid<Scalar>& grid() const { return m_grid; }
@@ -85,6 +102,14 @@ class Cloth {
   /// Forces besides springs and gravity, in the order they are added.
   const std::vector<std::shared_ptr<const ForceTerm<Scalar>>>& force_terms() const { return m_force_terms; }
   int node_count() const { return m_grid.node_count(); }
+  const std::vector<Collider<Scalar>>& colliders() const { return m_colliders; }
+  /// m: nodes rest this far from a collider's surface.
+  Scalar contact_thickness() const { return m_contact_thickness; }
+  /// m: how much deeper than the thickness a node may end a step before the end-of-step check
+  /// pushes it out (physics/contact_handler.hpp): 1% of the thickness, or rounding.
+  Scalar contact_tolerance() const {
+    return std::max(Scalar(0.01) * m_contact_thickness, Scalar(64) * std::numeric_limits<Scalar>::epsilon());
+  }
 
   /// The model's start: undeformed, flat, horizontal, at rest, t = 0.
   State<Scalar> initial_state() const {
@@ -100,6 +125,20 @@ class Cloth {
   Pins m_pins;
   Vec3<Scalar> m_gravity;
   std::vector<std::shared_ptr<const ForceTerm<Scalar>>> m_force_terms;
+  std::vector<Collider<Scalar>> m_colliders;
+  Scalar m_contact_thickness;
+
+  /// \throws InvalidParameter naming `colliders[k]` if a pinned node starts closer than the
+  /// contact thickness to collider k (it could never be pushed out).
+  void require_pins_clear_of_colliders() const {
+    const Matrix3X<Scalar>& x = m_grid.rest_positions();
+    for (std::size_t k = 0; k < m_colliders.size(); ++k)
+      for (int p : m_pins.nodes())
+        if (m_colliders[k].query(x.col(p), Scalar(0)).distance < m_contact_thickness)
+          detail::fail_argument("colliders[" + detail::to_text(k) + "]",
+                                "a collider touching pinned node " + detail::to_text(p) + " at the start",
+                                "colliders clear of every pinned node by the contact thickness");
+  }
 };
 
 }  // namespace drape

@@ -51,6 +51,10 @@ struct ImplicitOptions : IntegratorOptions {
   /// `newton_tolerance` times \f$ |\Delta t\, f(x_t, v_t)| \f$.
   int newton_iterations = 1;
   double newton_tolerance = 1e-6;
+  /// With colliders: at most this many linear solves per step while the contact set changes
+  /// (nodes let go or newly reached; physics/contact_handler.hpp). Left-over changes are resolved
+  /// after the solve like the explicit step does.
+  int contact_rounds = 4;
 
   /// The iterative solvers' share of these options.
   IterativeSettings iterative_settings() const { return {tolerance, max_iterations, threads, preconditioner}; }
@@ -134,6 +138,7 @@ inline void ImplicitOptions::validate_except_solver() const {
   IntegratorOptions::validate();
   iterative_settings().validate();
   detail::require_at_least("newton_iterations", newton_iterations, 1);
+  detail::require_in_range("contact_rounds", contact_rounds, 1, 32);
   if (!(std::isfinite(newton_tolerance) && newton_tolerance > 0))
     detail::fail_argument("newton_tolerance", detail::to_text(newton_tolerance), "finite and > 0");
 }
@@ -169,6 +174,9 @@ ImplicitEuler<Scalar>::ImplicitEuler(const Cloth<Scalar>& cloth, const ImplicitO
 template <class Scalar>
 void ImplicitEuler<Scalar>::set_up() {
   require_solver_fits(m_solver->name(), m_solver->capabilities(), m_options.jacobian, m_options.pin_treatment);
+  if (!this->cloth().colliders().empty() && !m_solver->capabilities().supports_constraints)
+    detail::fail_argument("solver", "'" + m_solver->name() + "' with colliders",
+                          "a solver that takes constraints (contacts are constraints of the solve)");
   const int n = this->cloth().node_count();
   m_system = m_assembler.make_system();
   m_dv.setZero(m_system.size());
@@ -215,9 +223,23 @@ StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state) {
   this->require_state_fits(state);
   const Scalar dt = this->dt();
   m_assembler.assemble_system(state.positions, state.velocities, state.time, dt, m_options.jacobian, m_system);
+  // Contacts become velocity constraints of the solve; solved again while the set changes.
+  ContactHandler<Scalar>& contacts = this->contacts();
+  const std::vector<int>& row_of_node = m_assembler.row_of_node();
+  if (contacts.active())
+    contacts.constrain(state.positions, state.velocities, state.time, dt, row_of_node, m_system.constraints);
   // m_dv still holds the previous step's solution: the warm start of iterative solvers.
-  const SolveStatus solved = m_solver->solve(m_system, m_dv);
-  StepStatus status{step_error(solved.error), solved.iterations, solved.residual};
+  SolveStatus solved = m_solver->solve(m_system, m_dv);
+  int iterations = solved.iterations;
+  for (int solves = 1; solved.ok() && m_dv.allFinite() &&
+                       contacts.revise(m_system, m_dv, state.positions, state.velocities, state.time, dt, row_of_node,
+                                       m_system.constraints) &&
+                       solves < m_options.contact_rounds;
+       ++solves) {
+    solved = m_solver->solve(m_system, m_dv);
+    iterations += solved.iterations;
+  }
+  StepStatus status{step_error(solved.error), iterations, solved.residual};
   if (!solved.ok() || !m_dv.allFinite()) {
     m_dv.setZero();  // a failed solve is no warm start
     if (status.ok()) status.error = StepError::NonFiniteState;
@@ -247,6 +269,7 @@ StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state) {
       }
     }
     scale = std::max(double(dt) * std::sqrt(scale), 1e-300);
+    m_system.constraints.zero_values();  // dv meets the constraints: the corrections keep them
     double g = nonlinear_residual(end, dt);
     m_newton_residual = g / scale;
     while (m_newton_done < m_options.newton_iterations && m_newton_residual > m_options.newton_tolerance) {
@@ -272,6 +295,7 @@ StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state) {
       return {StepError::NoConvergence, status.iterations, m_newton_residual};
     }
   }
+  contacts.respond(state.positions, state.velocities, state.time, dt, m_x_new, m_v_new);
   if (!(m_x_new.allFinite() && m_v_new.allFinite())) {
     m_dv.setZero();
     status.error = StepError::NonFiniteState;

@@ -13,6 +13,7 @@
 #include "drape/core/state.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/integrators/step_status.hpp"
+#include "drape/physics/contact_handler.hpp"
 
 namespace drape {
 
@@ -60,11 +61,13 @@ class Integrator {
     m_dt = dt;
   }
   const Cloth<Scalar>& cloth() const { return *m_cloth; }
+  /// What the cloth's contacts did in the last step (empty without colliders).
+  const ContactReport<Scalar>& contact_report() const { return m_contacts.report(); }
 
  protected:
   /// \throws InvalidParameter as IntegratorOptions::validate().
   Integrator(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
-      : m_cloth(&cloth), m_dt((options.validate(), Scalar(options.dt))) {
+      : m_cloth(&cloth), m_dt((options.validate(), Scalar(options.dt))), m_contacts(cloth) {
     set_dt(m_dt);  // the conversion to Scalar must not make it 0 or infinite
   }
 
@@ -76,9 +79,13 @@ class Integrator {
                             detail::to_text(n) + " nodes (the cloth's)");
   }
 
+  /// The contacts with the cloth's colliders: constraints and responses, the same for every integrator.
+  ContactHandler<Scalar>& contacts() { return m_contacts; }
+
  private:
   const Cloth<Scalar>* m_cloth;
   Scalar m_dt;
+  ContactHandler<Scalar> m_contacts;
 };
 
 }  // namespace drape

@@ -4,6 +4,7 @@
 /// \f[ q_{t+1} = q_t + \Delta t\, F\!\left(q_t + \tfrac{\Delta t}{2} F(q_t)\right), \quad
 ///     q = (x, v), \quad F(q) = (v,\; M^{-1} f(x, v)). \f]
 /// Pinned nodes are reset to their position and zero velocity after each stage, so they never move.
+/// Contacts with colliders are resolved on the step's result (physics/contact_handler.hpp).
 /// Conditionally stable: see drape's parameters.md for the largest stable dt.
 ///
 /// One step is one parallel region with four barriers: spring pass at q, node pass fused with the
@@ -156,6 +157,8 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
   });
 
   if (!finite.load(std::memory_order_relaxed)) return {StepError::NonFiniteState, 0, 0.0};
+  // Contacts: an impulse to each node that reaches a collider, friction, the end-of-step check.
+  this->contacts().respond(state.positions, state.velocities, state.time, dt, m_x_new, m_v_new);
   state.positions.swap(m_x_new);
   state.velocities.swap(m_v_new);
   state.time += dt;

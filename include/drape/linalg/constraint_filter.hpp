@@ -63,6 +63,9 @@ class ConstraintFilter {
   }
   /// Row `row` becomes free.
   void release(int row) { set(row, ConstraintKind::Free, Mat3<Scalar>::Identity(), Vec3<Scalar>::Zero()); }
+  /// Every prescribed value becomes 0, the filters stay (Newton corrections of a solution that
+  /// already meets the constraints).
+  void zero_values() { std::fill(m_value.begin(), m_value.end(), Scalar(0)); }
   /// Every row becomes free.
   void clear() {
     for (int r = 0; r < rows(); ++r)

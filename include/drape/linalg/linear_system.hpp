@@ -44,18 +44,30 @@ struct LinearSystem {
   }
 };
 
-/// \f$ |b - A x| / |b| \f$ (\f$ |b - A x| \f$ if b = 0), using `work` (size of b) as scratch: no
-/// allocation. Ignores the constraints.
+/// \f$ |S(b - A x)| / |S b| \f$ (the numerator alone if S b = 0): the residual on the directions
+/// the constraints leave free (all of them without constraints). `work` (size of b) is scratch: no
+/// allocation.
 template <class Scalar>
 double relative_residual(const LinearSystem<Scalar>& system, const VectorX<Scalar>& x, VectorX<Scalar>& work,
                          int threads = 1) {
   system.multiply(x.data(), work.data(), threads);
   const VectorX<Scalar>& b = system.rhs;
   double rr = 0, bb = 0;
-  for (Index i = 0; i < b.size(); ++i) {
-    const double r = double(b[i]) - double(work[i]);
-    rr += r * r;
-    bb += double(b[i]) * double(b[i]);
+  if (system.constraints.empty()) {
+    for (Index i = 0; i < b.size(); ++i) {
+      const double r = double(b[i]) - double(work[i]);
+      rr += r * r;
+      bb += double(b[i]) * double(b[i]);
+    }
+    return bb > 0 ? std::sqrt(rr / bb) : std::sqrt(rr);
+  }
+  for (int row = 0; row < system.block_rows(); ++row) {
+    Vec3<Scalar> r = b.template segment<3>(3 * row) - work.template segment<3>(3 * row);
+    Vec3<Scalar> br = b.template segment<3>(3 * row);
+    system.constraints.project_row(row, r.data());
+    system.constraints.project_row(row, br.data());
+    rr += double(r.squaredNorm());
+    bb += double(br.squaredNorm());
   }
   return bb > 0 ? std::sqrt(rr / bb) : std::sqrt(rr);
 }

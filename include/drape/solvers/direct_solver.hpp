@@ -13,8 +13,8 @@
 ///     bool solve(const VectorX<Real>& b, VectorX<Real>& x);      // false: the solve failed
 ///   };
 /// \endcode
-/// Direct solvers do not take constraints: constrained unknowns must be eliminated from the system
-/// (PinTreatment::Eliminate for pins).
+/// Constrained rows (filtered pins, contacts) are solved through the modified system of
+/// filtered_system.hpp: same pattern, so the symbolic factorisation stays valid.
 
 #include <type_traits>
 #include <utility>
@@ -23,6 +23,7 @@
 #include <Eigen/SparseCore>
 
 #include "drape/config.hpp"
+#include "drape/linalg/filtered_system.hpp"
 #include "drape/solvers/linear_solver.hpp"
 #include "drape/solvers/solver_kind.hpp"
 
@@ -47,19 +48,22 @@ class DirectSolver final : public BuiltInSolver<Scalar, Kind> {
   }
 
   SolveStatus solve(const LinearSystem<Scalar>& system, VectorX<Scalar>& x) override {
-    if (!system.constraints.empty()) return {SolveError::SolverFailure, 0, 0.0};  // eliminate them instead
     if (m_analyzed != system.size()) analyze(system);
-    system.matrix.copy_values(m_matrix, m_map);
+    const bool constrained = !system.constraints.empty();
+    if (constrained) filtered_system(system, m_filtered, m_filtered_rhs, m_work);
+    (constrained ? m_filtered : system.matrix).copy_values(m_matrix, m_map);
+    const VectorX<Scalar>& rhs = constrained ? m_filtered_rhs : system.rhs;
     const SolveError factorized = m_backend.factorize(m_matrix);
     if (factorized != SolveError::None) return {factorized, 0, 0.0};
     if constexpr (std::is_same_v<Real, Scalar>) {
-      if (!m_backend.solve(system.rhs, x)) return {SolveError::SolverFailure, 0, 0.0};
+      if (!m_backend.solve(rhs, x)) return {SolveError::SolverFailure, 0, 0.0};
     } else {
-      m_b = system.rhs.template cast<Real>();
+      m_b = rhs.template cast<Real>();
       const bool solved = m_backend.solve(m_b, m_x);
       x = m_x.template cast<Scalar>();
       if (!solved) return {SolveError::SolverFailure, 0, 0.0};
     }
+    if (constrained) system.constraints.impose(x.data());  // x = y + z (S y = y up to rounding)
     if (!x.allFinite()) return {SolveError::NonFiniteResult, 0, 0.0};
     return {SolveError::None, 0, relative_residual(system, x, m_work, 1)};
   }
@@ -73,6 +77,8 @@ class DirectSolver final : public BuiltInSolver<Scalar, Kind> {
   std::vector<int> m_map;
   VectorX<Real> m_b, m_x;
   VectorX<Scalar> m_work;
+  BlockSparseMatrix<Scalar> m_filtered;  // S A S + I - S, with constraints only
+  VectorX<Scalar> m_filtered_rhs;
   Index m_analyzed = -1;
 };
 

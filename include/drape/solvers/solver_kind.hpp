@@ -4,15 +4,19 @@
 /// capabilities and what a program needs to have it. Selection by name, availability and the
 /// factories are in solver_registry.hpp.
 ///
-/// | name       | method                                          | matrix    | constraints | needs |
-/// |------------|-------------------------------------------------|-----------|-------------|-----------------------------------------|
-/// | `cg`       | PCG, block Jacobi or multigrid, warm-started    | SPD       | yes         | header-only | |
-/// `bicgstab` | BiCGSTAB with block Jacobi, warm-started        | any       | yes         | header-only | | `ldlt` |
-/// Eigen SimplicialLDLT, AMD ordering              | SPD       | no          | opt-in: `drape/solvers/enable_ldlt.hpp`
-/// | | `lu`       | Eigen SparseLU, COLAMD ordering                 | any       | no          | opt-in:
-/// `drape/solvers/enable_lu.hpp`   | | `cholmod`  | CHOLMOD supernodal LL^T, AMD ordering           | SPD       | no |
-/// SuiteSparse (`drape::suitesparse`)      | | `umfpack`  | UMFPACK LU                                      | any | no
-/// | SuiteSparse (`drape::suitesparse`)      |
+// clang-format off
+/// | name       | method                                          | matrix | constraints     | needs                                   |
+/// |------------|-------------------------------------------------|--------|-----------------|-----------------------------------------|
+/// | `cg`       | PCG, block Jacobi or multigrid, warm-started    | SPD    | filtered        | header-only                             |
+/// | `bicgstab` | BiCGSTAB with block Jacobi, warm-started        | any    | filtered        | header-only                             |
+/// | `ldlt`     | Eigen SimplicialLDLT, AMD ordering              | SPD    | modified system | opt-in: `drape/solvers/enable_ldlt.hpp` |
+/// | `lu`       | Eigen SparseLU, COLAMD ordering                 | any    | modified system | opt-in: `drape/solvers/enable_lu.hpp`   |
+/// | `cholmod`  | CHOLMOD supernodal LL^T, AMD ordering           | SPD    | modified system | SuiteSparse (`drape::suitesparse`)      |
+/// | `umfpack`  | UMFPACK LU                                      | any    | modified system | SuiteSparse (`drape::suitesparse`)      |
+///
+/// "filtered": the constraint filter inside the iteration (pcg.hpp); "modified system": the
+/// equivalent unconstrained system of the same pattern (linalg/filtered_system.hpp).
+// clang-format on
 
 #include <array>
 #include <cstdint>
@@ -65,14 +69,14 @@ inline const LinearSolverInfo& solver_info(LinearSolverKind kind) {
        SolverRequirement::None},
       {LinearSolverKind::Ldlt,
        "Eigen SimplicialLDLT, AMD ordering",
-       {true, false, false},
+       {true, true, false},
        SolverRequirement::OptInHeader},
-      {LinearSolverKind::Lu, "Eigen SparseLU, COLAMD ordering", {false, false, false}, SolverRequirement::OptInHeader},
+      {LinearSolverKind::Lu, "Eigen SparseLU, COLAMD ordering", {false, true, false}, SolverRequirement::OptInHeader},
       {LinearSolverKind::Cholmod,
        "CHOLMOD supernodal LL^T, AMD ordering",
-       {true, false, false},
+       {true, true, false},
        SolverRequirement::SuiteSparse},
-      {LinearSolverKind::Umfpack, "UMFPACK LU", {false, false, false}, SolverRequirement::SuiteSparse},
+      {LinearSolverKind::Umfpack, "UMFPACK LU", {false, true, false}, SolverRequirement::SuiteSparse},
   }};
   return table[static_cast<std::size_t>(kind)];
 }

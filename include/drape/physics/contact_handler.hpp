@@ -1,0 +1,294 @@
+#pragma once
+/// \file contact_handler.hpp
+/// Cloth nodes against the scene's colliders: detection, the implicit step's velocity constraints,
+/// Coulomb friction and the end-of-step guarantee, in one place for both integrators (drape's
+/// contact.md has the derivation and the limits).
+///
+/// A node touches a collider when its signed distance d is at most the contact thickness h (the
+/// cloth's half-thickness). For a node that touches, or whose straight path during the step
+/// reaches the surface (a swept test in the collider's moving frame), the normal velocity at the
+/// end of the step is prescribed,
+/// \f[ n \cdot v^{+} = n \cdot v_c + (h - d) / \Delta t , \f]
+/// with n, d and the collider's surface velocity \f$ v_c \f$ taken at the start of the step: the
+/// node ends on the plane tangent to the collider (inflated by h) at its closest point, which for a
+/// convex collider keeps the whole path outside, however fast it moves.
+///  - Implicit step: the constraint enters the linear solve through the constraint filter
+///    (Baraff & Witkin 1998, section 5), \f$ S = I - n n^T \f$, \f$ z = n (n \cdot v^{+} - n \cdot v) \f$.
+///    After each solve the contact impulse is \f$ \lambda = (A \Delta v - b)_r \f$; contacts that
+///    pull (\f$ n \cdot \lambda < 0 \f$) are released and nodes whose new path enters a collider
+///    are added, and the system is solved again while the set changes (at most `rounds` solves).
+///  - RK2: the same target applied to the step's result as an inelastic impulse.
+/// Friction (both): with the normal impulse \f$ j_n \f$ of the step, a node whose tangential
+/// relative velocity \f$ u_t \f$ can be stopped by \f$ m |u_t| \le \mu_s j_n \f$ sticks
+/// (\f$ u_t = 0 \f$); otherwise it slides and \f$ |u_t| \f$ drops by \f$ \mu_k j_n / m \f$
+/// (Bridson, Fedkiw & Anderson 2002). A node in contact then moves by \f$ \Delta t\, v^{+} \f$.
+/// Finally every node is checked at its end position against every collider and pushed out to
+/// the distance h if it is deeper than h by more than the tolerance: the guarantee, counted in
+/// `ContactReport::corrected` (zero in the tested scenes).
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "drape/core/cloth.hpp"
+#include "drape/core/collider.hpp"
+#include "drape/linalg/linear_system.hpp"
+
+namespace drape {
+
+/// What the contacts did in the last step.
+template <class Scalar>
+struct ContactReport {
+  int contacts = 0;    ///< nodes in contact (normal impulse > 0 or held by a constraint)
+  int sticking = 0;    ///< of which friction held still
+  int sliding = 0;     ///< of which slid
+  int corrected = 0;   ///< nodes the end-of-step check had to push out
+  int rounds = 0;      ///< implicit step: linear solves (1 without contact changes); RK2: 0
+  Scalar deepest = 0;  ///< deepest penetration h - d at the end of the step, before the check (m, >= 0)
+  Vec3<Scalar> normal_force = Vec3<Scalar>::Zero();    ///< total normal force on the cloth (N)
+  Vec3<Scalar> friction_force = Vec3<Scalar>::Zero();  ///< total friction force on the cloth (N)
+};
+
+template <class Scalar = double>
+class ContactHandler {
+ public:
+  explicit ContactHandler(const Cloth<Scalar>& cloth)
+      : m_cloth(&cloth), m_slot(static_cast<std::size_t>(cloth.node_count()), -1) {}
+  ContactHandler(const Cloth<Scalar>&& cloth) = delete;
+
+  /// True if the scene has colliders (everything below is then a no-op otherwise).
+  bool active() const { return !m_cloth->colliders().empty(); }
+  const ContactReport<Scalar>& report() const { return m_report; }
+
+  /// Implicit step, before the first solve: the nodes that touch a collider, or would reach one
+  /// moving at their velocity v, become constraints of `c` (rows from `row_of_node`, -1 = not in
+  /// the system). Releases the previous step's contact rows first.
+  void constrain(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt,
+                 const std::vector<int>& row_of_node, ConstraintFilter<Scalar>& c);
+
+  /// Implicit step, after a solve with `dv` (3 per row): contact impulses from the residual;
+  /// releases pulling contacts and adds nodes whose new path enters a collider. Returns true if
+  /// the constraints changed (solve again).
+  bool revise(const LinearSystem<Scalar>& system, const VectorX<Scalar>& dv, const ConstRef3X<Scalar>& x,
+              const ConstRef3X<Scalar>& v, Scalar t, Scalar dt, const std::vector<int>& row_of_node,
+              ConstraintFilter<Scalar>& c);
+
+  /// Both integrators, on the step's result `x_new`, `v_new` from (x, v) at t: the RK2 contact
+  /// impulses (nodes not already constrained), friction, and the end-of-step check.
+  void respond(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt, Ref3X<Scalar> x_new,
+               Ref3X<Scalar> v_new);
+
+ private:
+  struct Contact {
+    int node;
+    int collider;
+    int row;  // system row under the implicit step's constraints, -1 otherwise
+    Vec3<Scalar> normal;
+    Vec3<Scalar> surface_velocity;
+    Scalar target;   // n . v+ at the end of the step
+    Scalar impulse;  // normal impulse of the step (N s)
+  };
+
+  /// The first collider the path x0 (t) -> x1 (t + dt) reaches within `offset`, as a contact
+  /// taken at the start; false if none.
+  bool sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar t, Scalar dt, Scalar offset,
+             Contact& out) const;
+  void add(const Contact& contact, ConstraintFilter<Scalar>* c, const ConstRef3X<Scalar>& v);
+  void release_rows(ConstraintFilter<Scalar>& c);
+  /// Coulomb friction on a node in contact (its velocity, in place), and the report's totals.
+  void apply_friction(const Contact& contact, Vec3<Scalar>& velocity, Scalar mass, Scalar dt);
+
+  const Cloth<Scalar>* m_cloth;
+  std::vector<Contact> m_contacts;  // this step's
+  std::vector<Contact> m_kept;      // scratch of revise()
+  std::vector<int> m_slot;          // per node: index into m_contacts, -1 if none
+  ContactReport<Scalar> m_report;
+  bool m_constrained = false;  // constrain() began this step
+};
+
+// ---------------------------------------------------------------------------------------------
+
+template <class Scalar>
+bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar t, Scalar dt,
+                                   Scalar offset, Contact& out) const {
+  Scalar first = 2;
+  int hit = -1;
+  const auto& colliders = m_cloth->colliders();
+  for (std::size_t k = 0; k < colliders.size(); ++k) {
+    const Scalar s = colliders[k].first_contact(x0, t, x1, t + dt, offset);
+    if (s >= 0 && s < first) {
+      first = s;
+      hit = static_cast<int>(k);
+    }
+  }
+  if (hit < 0) return false;
+  const ColliderContact<Scalar> q = colliders[static_cast<std::size_t>(hit)].query(x0, t);
+  out = {node,     hit,        -1,
+         q.normal, q.velocity, q.normal.dot(q.velocity) + (m_cloth->contact_thickness() - q.distance) / dt,
+         Scalar(0)};
+  return true;
+}
+
+template <class Scalar>
+void ContactHandler<Scalar>::add(const Contact& contact, ConstraintFilter<Scalar>* c, const ConstRef3X<Scalar>& v) {
+  m_slot[static_cast<std::size_t>(contact.node)] = static_cast<int>(m_contacts.size());
+  m_contacts.push_back(contact);
+  if (c == nullptr || contact.row < 0) return;
+  const Vec3<Scalar>& n = contact.normal;
+  const Scalar dv_normal = contact.target - n.dot(v.col(contact.node));
+  c->constrain(contact.row, Mat3<Scalar>::Identity() - n * n.transpose(), dv_normal * n);
+}
+
+template <class Scalar>
+void ContactHandler<Scalar>::release_rows(ConstraintFilter<Scalar>& c) {
+  for (const Contact& contact : m_contacts) {
+    if (contact.row >= 0 && c.kind(contact.row) == ConstraintKind::Projected) c.release(contact.row);
+    m_slot[static_cast<std::size_t>(contact.node)] = -1;
+  }
+  m_contacts.clear();
+}
+
+template <class Scalar>
+void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt,
+                                       const std::vector<int>& row_of_node, ConstraintFilter<Scalar>& c) {
+  release_rows(c);
+  m_report = {};
+  m_constrained = true;
+  if (!active()) return;
+  // A node resting on a surface sits at d = h up to rounding: a small margin keeps it constrained
+  // instead of letting it fall in and be caught by a second solve.
+  const Scalar h = m_cloth->contact_thickness();
+  const Scalar margin = Scalar(0.05) * h + Scalar(16) * std::numeric_limits<Scalar>::epsilon();
+  for (Index i = 0; i < x.cols(); ++i) {
+    const int node = static_cast<int>(i);
+    const int row = row_of_node[static_cast<std::size_t>(node)];
+    if (row < 0 || c.kind(row) == ConstraintKind::Fixed) continue;  // pinned
+    Contact contact;
+    if (!sweep(node, x.col(i), x.col(i) + dt * v.col(i), t, dt, h + margin, contact)) continue;
+    contact.row = row;
+    add(contact, &c, v);
+  }
+}
+
+template <class Scalar>
+bool ContactHandler<Scalar>::revise(const LinearSystem<Scalar>& system, const VectorX<Scalar>& dv,
+                                    const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt,
+                                    const std::vector<int>& row_of_node, ConstraintFilter<Scalar>& c) {
+  if (!active()) return false;
+  ++m_report.rounds;
+  const BlockSparseMatrix<Scalar>& a = system.matrix;
+  bool changed = false;
+  // Impulses lambda = (A dv - b)_r of the constrained rows; pulling contacts let go.
+  std::vector<Contact>& kept = m_kept;
+  kept.clear();
+  for (Contact& contact : m_contacts) {
+    const int r = contact.row;
+    Vec3<Scalar> lambda = -system.rhs.template segment<3>(3 * r);
+    for (int k = a.row_begin()[r]; k < a.row_begin()[r + 1]; ++k)
+      lambda += a.block(k) * dv.template segment<3>(3 * a.column()[k]);
+    contact.impulse = contact.normal.dot(lambda);
+    m_slot[static_cast<std::size_t>(contact.node)] = -1;
+    if (contact.impulse < 0) {
+      c.release(r);
+      changed = true;
+    } else {
+      kept.push_back(contact);
+    }
+  }
+  m_contacts.swap(kept);
+  for (std::size_t k = 0; k < m_contacts.size(); ++k) m_slot[static_cast<std::size_t>(m_contacts[k].node)] = int(k);
+  // Nodes whose new path reaches a collider.
+  const Scalar h = m_cloth->contact_thickness();
+  for (Index i = 0; i < x.cols(); ++i) {
+    const int node = static_cast<int>(i);
+    const int row = row_of_node[static_cast<std::size_t>(node)];
+    if (row < 0 || c.kind(row) != ConstraintKind::Free) continue;
+    const Vec3<Scalar> v_new = v.col(i) + dv.template segment<3>(3 * row);
+    Contact contact;
+    if (!sweep(node, x.col(i), x.col(i) + dt * v_new, t, dt, h, contact)) continue;
+    contact.row = row;
+    add(contact, &c, v);
+    changed = true;
+  }
+  return changed;
+}
+
+template <class Scalar>
+void ContactHandler<Scalar>::apply_friction(const Contact& contact, Vec3<Scalar>& velocity, Scalar mass, Scalar dt) {
+  const Vec3<Scalar>& n = contact.normal;
+  ++m_report.contacts;
+  m_report.normal_force += (contact.impulse / dt) * n;
+  const Collider<Scalar>& collider = m_cloth->colliders()[static_cast<std::size_t>(contact.collider)];
+  const Vec3<Scalar> relative = velocity - contact.surface_velocity;
+  const Vec3<Scalar> tangential = relative - n.dot(relative) * n;
+  const Scalar speed = tangential.norm();
+  if (!(contact.impulse > 0) || !(speed > 0)) return;
+  Vec3<Scalar> change;
+  if (mass * speed <= collider.static_friction() * contact.impulse) {
+    change = -tangential;  // the impulse that stops it is inside the cone: it sticks
+    ++m_report.sticking;
+  } else {
+    change = -std::min(Scalar(1), collider.kinetic_friction() * contact.impulse / (mass * speed)) * tangential;
+    ++m_report.sliding;
+  }
+  velocity += change;
+  m_report.friction_force += (mass / dt) * change;
+}
+
+template <class Scalar>
+void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt,
+                                     Ref3X<Scalar> x_new, Ref3X<Scalar> v_new) {
+  if (!active()) return;
+  if (!m_constrained) {  // a step without constrain() (RK2): start afresh
+    for (const Contact& contact : m_contacts) m_slot[static_cast<std::size_t>(contact.node)] = -1;
+    m_contacts.clear();
+    m_report = {};
+  }
+  m_constrained = false;
+  const auto& colliders = m_cloth->colliders();
+  const Pins& pins = m_cloth->pins();
+  const VectorX<Scalar>& masses = m_cloth->grid().masses();
+  const Scalar h = m_cloth->contact_thickness();
+  for (Index i = 0; i < x.cols(); ++i) {
+    const int node = static_cast<int>(i);
+    if (pins.is_pinned(node)) continue;
+    const Scalar mass = masses[i];
+    int slot = m_slot[static_cast<std::size_t>(node)];
+    if (slot < 0) {
+      // Not constrained in a solve (RK2, or a node the rounds left over): an impulse to the target.
+      Contact contact;
+      if (!sweep(node, x.col(i), x_new.col(i), t, dt, h, contact)) continue;
+      if (contact.normal.dot(v_new.col(i)) >= contact.target) continue;  // leaves the surface by itself
+      add(contact, nullptr, v);
+      slot = m_slot[static_cast<std::size_t>(node)];
+    }
+    Contact& contact = m_contacts[static_cast<std::size_t>(slot)];
+    Vec3<Scalar> velocity = v_new.col(i);
+    const Scalar normal_speed = contact.normal.dot(velocity);
+    if (normal_speed < contact.target) {
+      contact.impulse += mass * (contact.target - normal_speed);
+      velocity += (contact.target - normal_speed) * contact.normal;
+    }
+    apply_friction(contact, velocity, mass, dt);
+    v_new.col(i) = velocity;
+    x_new.col(i) = x.col(i) + dt * velocity;
+  }
+  // The guarantee: no node ends deeper than the tolerance.
+  const Scalar tolerance = m_cloth->contact_tolerance();
+  for (Index i = 0; i < x.cols(); ++i) {
+    if (pins.is_pinned(static_cast<int>(i))) continue;
+    for (const Collider<Scalar>& collider : colliders) {
+      const ColliderContact<Scalar> q = collider.query(x_new.col(i), t + dt);
+      if (q.distance >= h) continue;
+      m_report.deepest = std::max(m_report.deepest, h - q.distance);
+      if (q.distance >= h - tolerance) continue;
+      x_new.col(i) += (h - q.distance) * q.normal;
+      const Scalar approach = q.normal.dot(v_new.col(i) - q.velocity);
+      if (approach < 0) v_new.col(i) -= approach * q.normal;
+      ++m_report.corrected;
+    }
+  }
+}
+
+}  // namespace drape

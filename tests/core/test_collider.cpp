@@ -1,0 +1,373 @@
+// Rigid colliders (physics/collider.hpp): the analytic gradient of every shape against central
+// differences inside and outside, known distances, moving and spinning colliders, the constant
+// motion's pose, the swept test (thin boxes, misses, starts inside, relative motion, and a sampled
+// check that it never passes a contact), and parameter checks.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "drape/core/collider.hpp"
+
+using namespace drape;
+
+namespace {
+
+template <class S>
+Mat3<S> tilt() {
+  return Eigen::AngleAxis<S>(S(0.7), Vec3<S>(1, 2, 3).normalized()).toRotationMatrix();
+}
+
+/// One collider of every kind (two boxes: sharp and rounded), placed off the origin and tilted,
+/// some of them moving and spinning.
+template <class S>
+std::vector<Collider<S>> shapes() {
+  return {Collider<S>::plane(Vec3<S>(S(0.1), S(-0.2), S(0.3)), Vec3<S>(S(0.3), 1, S(-0.2))),
+          Collider<S>::sphere(Vec3<S>(S(0.2), S(0.1), S(-0.3)), S(0.7)),
+          Collider<S>::capsule(Vec3<S>(S(-0.5), S(0.2), S(0.1)), Vec3<S>(S(0.6), S(-0.3), S(0.4)), S(0.3))
+              .moving(Vec3<S>(S(0.2), 0, S(-0.1)), Vec3<S>(S(0.5), S(-1), S(0.3))),
+          Collider<S>::box(Vec3<S>(S(0.1), S(0.2), S(-0.1)), Vec3<S>(S(0.6), S(0.4), S(0.8)), tilt<S>()),
+          Collider<S>::box(Vec3<S>(S(0.1), S(0.2), S(-0.1)), Vec3<S>(S(0.6), S(0.4), S(0.8)), tilt<S>(), S(0.25))
+              .moving(Vec3<S>(0, S(-0.3), S(0.2)), Vec3<S>(1, S(0.2), S(-0.4)))};
+}
+
+template <class S>
+Vec3<S> random_point(std::mt19937& rng, double half_width) {
+  std::uniform_real_distribution<double> u(-half_width, half_width);
+  return Vec3<double>(u(rng), u(rng), u(rng)).cast<S>();
+}
+
+template <class S>
+bool close3(const Vec3<S>& a, const Vec3<S>& b, S eps) {
+  return (a - b).cwiseAbs().maxCoeff() <= eps;
+}
+
+}  // namespace
+
+TEST_CASE("collider normals are the central-difference gradient of the distance, inside and outside; float agrees",
+          "[collider]") {
+  const double h = 1e-6, t = 0.3;
+  const std::vector<Collider<double>> colliders = shapes<double>();
+  const std::vector<Collider<float>> single = shapes<float>();
+  std::mt19937 rng(11);
+  for (std::size_t i = 0; i < colliders.size(); ++i) {
+    const Collider<double>& collider = colliders[i];
+    INFO(to_string(collider.kind()) << ", rounding " << collider.rounding());
+    int inside = 0, outside = 0, skipped = 0;
+    const int points = 2000;
+    for (int k = 0; k < points; ++k) {
+      const Vec3<double> x = random_point<double>(rng, 1.3);
+      const ColliderContact<double> c = collider.query(x, t);
+      INFO("x = " << x.transpose() << ", distance " << c.distance);
+      REQUIRE(std::abs(c.normal.norm() - 1) < 1e-14);
+      Vec3<double> fd;
+      bool across_medial_axis = false;
+      for (int d = 0; d < 3; ++d) {
+        Vec3<double> xp = x, xm = x;
+        xp[d] += h;
+        xm[d] -= h;
+        const ColliderContact<double> cp = collider.query(xp, t), cm = collider.query(xm, t);
+        // The interior's medial axis, where the nearest surface point jumps, is no place for differences.
+        across_medial_axis |= (cp.normal - c.normal).norm() > 0.1 || (cm.normal - c.normal).norm() > 0.1;
+        fd[d] = (cp.distance - cm.distance) / (2 * h);
+      }
+      if (across_medial_axis) {
+        ++skipped;
+        continue;
+      }
+      (c.distance < 0 ? inside : outside)++;
+      REQUIRE(close3<double>(c.normal, fd, 1e-7));
+      // The same collider in float: the same distance and normal to float precision.
+      const ColliderContact<float> f = single[i].query(x.cast<float>(), float(t));
+      CHECK(std::abs(double(f.distance) - c.distance) < 2e-6);
+      CHECK(std::abs(double(f.normal.norm()) - 1) < 1e-6);
+      CHECK(close3<double>(f.normal.cast<double>(), c.normal, 1e-3));
+    }
+    CHECK(inside >= 20);
+    CHECK(outside >= 20);
+    CHECK(skipped <= points / 100);
+  }
+}
+
+TEMPLATE_TEST_CASE("collider distances and normals at known points", "[collider]", float, double) {
+  using S = TestType;
+  const S eps = 20 * std::numeric_limits<S>::epsilon();
+  const auto check = [eps](const Collider<S>& collider, const Vec3<S>& x, double distance, const Vec3<S>& normal) {
+    const ColliderContact<S> c = collider.query(x, 0);
+    INFO(to_string(collider.kind()) << " at " << x.transpose() << ": " << c.distance << ", " << c.normal.transpose());
+    CHECK(std::abs(c.distance - S(distance)) <= eps);
+    CHECK(close3<S>(c.normal, normal.normalized(), eps));
+  };
+  const Vec3<S> c(1, 2, 3);
+  const Collider<S> sphere = Collider<S>::sphere(c, S(0.5));
+  check(sphere, c + Vec3<S>(0, 0, 2), 1.5, Vec3<S>(0, 0, 1));
+  check(sphere, c + Vec3<S>(S(0.3), S(-0.4), 0), -0.0, Vec3<S>(S(0.3), S(-0.4), 0));
+  check(sphere, c + Vec3<S>(S(-0.1), 0, 0), -0.4, Vec3<S>(-1, 0, 0));
+
+  // The segment (1,2,3)-(1,4,3): caps beyond the ends, the side along the axis.
+  const Collider<S> capsule = Collider<S>::capsule(c, c + Vec3<S>(0, 2, 0), S(0.5));
+  CHECK(capsule.half_length() == S(1));
+  check(capsule, c + Vec3<S>(0, 3, 0), 0.5, Vec3<S>(0, 1, 0));
+  check(capsule, c + Vec3<S>(0, -1, 0), 0.5, Vec3<S>(0, -1, 0));
+  check(capsule, c + Vec3<S>(0, S(-0.5), S(0.5)), std::sqrt(0.5) - 0.5, Vec3<S>(0, -1, 1));
+  check(capsule, c + Vec3<S>(0, S(1.5), S(-1)), 0.5, Vec3<S>(0, 0, -1));
+  check(capsule, c + Vec3<S>(S(0.2), S(0.7), 0), -0.3, Vec3<S>(1, 0, 0));
+
+  // Box 2 x 4 x 6 at c: faces, edges and corners, then the same outer size with rounded edges.
+  const Vec3<S> half(1, 2, 3);
+  const Collider<S> sharp = Collider<S>::box(c, half);
+  check(sharp, c + Vec3<S>(2, 0, 0), 1, Vec3<S>(1, 0, 0));
+  check(sharp, c + Vec3<S>(2, -3, 0), std::sqrt(2.0), Vec3<S>(1, -1, 0));
+  check(sharp, c + Vec3<S>(2, 3, -4), std::sqrt(3.0), Vec3<S>(1, 1, -1));
+  check(sharp, c + Vec3<S>(S(0.9), 0, 0), -0.1, Vec3<S>(1, 0, 0));
+  check(sharp, c + Vec3<S>(0, S(-1.5), 0), -0.5, Vec3<S>(0, -1, 0));
+  check(sharp, c + Vec3<S>(S(0.5), S(1.2), S(2.9)), -0.1, Vec3<S>(0, 0, 1));
+  const Collider<S> round = Collider<S>::box(c, half, Mat3<S>::Identity(), S(0.5));
+  CHECK(round.rounding() == S(0.5));
+  check(round, c + Vec3<S>(2, 0, 0), 1, Vec3<S>(1, 0, 0));
+  check(round, c + Vec3<S>(2, -3, 0), 1.5 * std::sqrt(2.0) - 0.5, Vec3<S>(1, -1, 0));
+  check(round, c + Vec3<S>(2, 3, -4), 1.5 * std::sqrt(3.0) - 0.5, Vec3<S>(1, 1, -1));
+  check(round, c + Vec3<S>(S(0.9), 0, 0), -0.1, Vec3<S>(1, 0, 0));
+  // The outer corner of the sharp box lies outside the rounded one: (sqrt 3 - 1) r.
+  check(round, c + half, (std::sqrt(3.0) - 1) * 0.5, Vec3<S>(1, 1, 1));
+  // A rotated box: the face normal turns with it.
+  const Mat3<S> r = tilt<S>();
+  const Collider<S> turned = Collider<S>::box(c, half, r, S(0.5));
+  check(turned, c + r * Vec3<S>(0, 0, 4), 1, r.col(2));
+  check(turned, c + r * Vec3<S>(2, -3, 0), 1.5 * std::sqrt(2.0) - 0.5, r * Vec3<S>(1, -1, 0));
+
+  // A plane through c tilted by its normal (not unit on input).
+  const Vec3<S> n(1, 1, 0);
+  const Collider<S> plane = Collider<S>::plane(c, n);
+  check(plane, c + Vec3<S>(1, 0, 5), std::sqrt(0.5), n);
+  check(plane, c + Vec3<S>(-2, 0, -1), -std::sqrt(2.0), n);
+  check(plane, c + Vec3<S>(1, -1, 7), 0, n);
+  // An upside-down plane (normal -y, the rotation from +y is a half turn).
+  check(Collider<S>::plane(c, Vec3<S>(0, -3, 0)), c + Vec3<S>(4, -1, 2), 1, Vec3<S>(0, -1, 0));
+}
+
+TEST_CASE("rigid motion: constant pose against a hand-computed rotation, frame maps and point velocity",
+          "[collider][motion]") {
+  // R0: a quarter turn about x; w: 2 rad/s about z, so at t = 0.25 a further 0.5 rad about z.
+  Mat3<double> r0;
+  r0 << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  const Vec3<double> p0(1, 2, 3), v(0.4, -0.2, 1), w(0, 0, 2);
+  const RigidMotion<double> motion = RigidMotion<double>::constant(p0, r0, v, w);
+  const double t = 0.25, c = std::cos(0.5), s = std::sin(0.5);
+  Mat3<double> rz;
+  rz << c, -s, 0, s, c, 0, 0, 0, 1;
+  Mat3<double> expected;  // rz * r0, multiplied out by hand
+  expected << c, 0, s, s, 0, -c, 0, 1, 0;
+  CHECK((rz * r0 - expected).cwiseAbs().maxCoeff() < 1e-15);
+  const RigidPose<double> pose = motion.pose(t);
+  CHECK((pose.rotation - expected).cwiseAbs().maxCoeff() < 1e-14);
+  CHECK((pose.translation - Vec3<double>(1.1, 1.95, 3.25)).cwiseAbs().maxCoeff() < 1e-14);
+  CHECK(pose.velocity == v);
+  CHECK(pose.angular_velocity == w);
+  const Vec3<double> local(0.3, -0.7, 1.1);
+  const Vec3<double> x = pose.to_world(local);
+  CHECK((x - (expected * local + pose.translation)).norm() < 1e-14);
+  CHECK((pose.to_local(x) - local).norm() < 1e-14);
+  CHECK((pose.point_velocity(x) - (v + w.cross(x - pose.translation))).norm() < 1e-14);
+  // The velocity is the time derivative of the material point's path.
+  const double dt = 1e-6;
+  const Vec3<double> path_rate = (motion.pose(t + dt).to_world(local) - motion.pose(t - dt).to_world(local)) / (2 * dt);
+  CHECK((pose.point_velocity(x) - path_rate).norm() < 1e-8);
+  CHECK(motion.pose(0).rotation == r0);
+  CHECK_FALSE(motion.is_static());
+  CHECK(RigidMotion<double>().is_static());
+  CHECK(RigidMotion<double>::fixed(p0, r0).is_static());
+  CHECK(RigidMotion<double>::fixed(p0, r0).pose(7).translation == p0);
+  CHECK_FALSE(RigidMotion<double>::callback([](double) { return RigidPose<double>{}; }).is_static());
+}
+
+TEMPLATE_TEST_CASE("moving and spinning colliders: distance from the moved shape, surface velocity",
+                   "[collider][motion]", float, double) {
+  using S = TestType;
+  const S eps = 50 * std::numeric_limits<S>::epsilon();
+  const Vec3<S> c(1, 2, 3), v(S(0.5), -1, S(2)), w(S(0.3), S(-2), S(1.5)), x(S(1.7), S(1.1), S(4.2));
+  const S t = S(0.4);
+  // A sliding sphere: the distance at t is the static distance from the shifted centre.
+  const Collider<S> sliding = Collider<S>::sphere(c, S(0.5)).moving(v);
+  const ColliderContact<S> at_t = sliding.query(x, t), shifted = Collider<S>::sphere(c + t * v, S(0.5)).query(x, 0);
+  CHECK(std::abs(at_t.distance - shifted.distance) <= eps);
+  CHECK(close3<S>(at_t.normal, shifted.normal, eps));
+  CHECK(close3<S>(at_t.velocity, v, eps));
+  // A spinning sphere stays put; its surface moves at w x (x - c).
+  const Collider<S> spinning = Collider<S>::sphere(c, S(0.5)).moving(Vec3<S>::Zero(), w);
+  const ColliderContact<S> spun = spinning.query(x, t);
+  CHECK(std::abs(spun.distance - Collider<S>::sphere(c, S(0.5)).query(x, 0).distance) <= eps);
+  CHECK(close3<S>(spun.velocity, w.cross(x - c), eps));
+  // A box sliding and spinning about its own centre equals the static box at the pose of time t.
+  const Mat3<S> r0 = tilt<S>();
+  const Vec3<S> half(S(0.6), S(0.4), S(0.8));
+  const Collider<S> tumbling = Collider<S>::box(c, half, r0, S(0.1)).moving(v, w);
+  const Mat3<S> rt = Eigen::AngleAxis<S>(t * w.norm(), w.normalized()).toRotationMatrix() * r0;
+  const Collider<S> frozen = Collider<S>::box(c + t * v, half, rt, S(0.1));
+  std::mt19937 rng(3);
+  for (int k = 0; k < 50; ++k) {
+    const Vec3<S> y = c + random_point<S>(rng, 1.5);
+    const ColliderContact<S> a = tumbling.query(y, t), b = frozen.query(y, 0);
+    CHECK(std::abs(a.distance - b.distance) <= eps);
+    CHECK(close3<S>(a.normal, b.normal, 10 * eps));
+    CHECK(close3<S>(a.velocity, v + w.cross(y - (c + t * v)), eps));
+  }
+  // A callback motion is used as given (here: the same sliding sphere).
+  Collider<S> driven = Collider<S>::sphere(Vec3<S>::Zero(), S(0.5));
+  driven.set_motion(RigidMotion<S>::callback([&](S time) {
+    RigidPose<S> p;
+    p.translation = c + time * v;
+    p.velocity = v;
+    return p;
+  }));
+  CHECK_FALSE(driven.motion().is_static());
+  CHECK(std::abs(driven.query(x, t).distance - at_t.distance) <= eps);
+  CHECK(close3<S>(driven.query(x, t).velocity, v, eps));
+}
+
+TEMPLATE_TEST_CASE("swept test: thin boxes, misses, starts inside, moving spheres, planes", "[collider][swept]", float,
+                   double) {
+  using S = TestType;
+  const S accuracy = S(1e-6);
+  // A 1 mm thick wall at x = 0.5 and a 1 m path straight through it, in one step.
+  const Collider<S> wall = Collider<S>::box(Vec3<S>(S(0.5), 0, 0), Vec3<S>(S(0.0005), S(0.2), S(0.2)));
+  const Vec3<S> from(0, S(0.05), S(0.03)), to(1, S(0.05), S(0.03));
+  CHECK(std::abs(wall.first_contact(from, 0, to, 1, 0) - S(0.4995)) <= accuracy);
+  CHECK(std::abs(wall.first_contact(from, 0, to, 1, S(0.002)) - S(0.4975)) <= accuracy);
+  CHECK(std::abs(wall.first_contact(to, 0, from, 1, 0) - S(0.4995)) <= accuracy);
+  // Obliquely: from (0, 0, 0) to (1, 0.3, -0.1) the wall's face x = 0.4995 is reached at s = 0.4995.
+  CHECK(std::abs(wall.first_contact(Vec3<S>::Zero(), 0, Vec3<S>(1, S(0.3), S(-0.1)), 1, 0) - S(0.4995)) <= accuracy);
+  // Through a rounded, tilted thin plate: the crossing is found (s strictly inside the path).
+  const Collider<S> plate =
+      Collider<S>::box(Vec3<S>(S(0.5), 0, 0), Vec3<S>(S(0.0005), S(0.2), S(0.2)), tilt<S>(), S(0.0004));
+  const S s_plate = plate.first_contact(from, 0, to, 1, 0);
+  CHECK(s_plate > S(0.4));
+  CHECK(s_plate < S(0.6));
+  CHECK(plate.query(from + s_plate * (to - from), 0).distance <= S(2e-6));
+  // Passing above the wall, or stopping short of it: negative.
+  CHECK(wall.first_contact(Vec3<S>(0, S(0.3), 0), 0, Vec3<S>(1, S(0.3), 0), 1, 0) < 0);
+  CHECK(wall.first_contact(Vec3<S>(0, S(0.3), 0), 0, Vec3<S>(1, S(0.3), 0), 1, S(0.099)) < 0);
+  CHECK(wall.first_contact(Vec3<S>(0, S(0.3), 0), 0, Vec3<S>(1, S(0.3), 0), 1, S(0.101)) >= 0);
+  CHECK(wall.first_contact(from, 0, Vec3<S>(S(0.49), S(0.05), S(0.03)), 1, 0) < 0);
+  CHECK(wall.first_contact(from, 0, from, 1, 0) < 0);
+  // Starting inside, or within the offset: 0.
+  CHECK(wall.first_contact(Vec3<S>(S(0.5), 0, 0), 0, to, 1, 0) == 0);
+  CHECK(wall.first_contact(Vec3<S>(S(0.498), 0, 0), 0, from, 1, S(0.002)) == 0);
+  // A small sphere sweeping across a point that does not move: relative motion finds it.
+  const Collider<S> ball = Collider<S>::sphere(Vec3<S>(S(-0.5), 0, 0), S(0.01)).moving(Vec3<S>(1, 0, 0));
+  const Vec3<S> still(0, S(0.003), 0);
+  const S expected_s = S(0.5) - std::sqrt(S(0.01) * S(0.01) - S(0.003) * S(0.003));
+  CHECK(std::abs(ball.first_contact(still, 0, still, 1, 0) - expected_s) <= accuracy);
+  CHECK(ball.first_contact(Vec3<S>(0, S(0.02), 0), 0, Vec3<S>(0, S(0.02), 0), 1, 0) < 0);
+  CHECK(ball.first_contact(still, 0, still, S(0.4), 0) < 0);  // the ball has not arrived yet at t = 0.4
+  // A capsule end cap and a tilted plane (solved exactly).
+  const Collider<S> capsule = Collider<S>::capsule(Vec3<S>(0, 0, 0), Vec3<S>(0, 1, 0), S(0.1));
+  CHECK(std::abs(capsule.first_contact(Vec3<S>(0, 2, 0), 0, Vec3<S>(0, 0, 0), 1, 0) - S(0.45)) <= accuracy);
+  const Collider<S> plane = Collider<S>::plane(Vec3<S>(0, 1, 0), Vec3<S>(0, 1, 1));
+  // d(s) = (y + z - 1) / sqrt 2 along (0, 3, 0) -> (0, -1, 0): y(s) = 3 - 4 s, contact at offset 0.1
+  // when 2 - 4 s = 0.1 sqrt 2.
+  const S plane_s = (2 - S(0.1) * std::sqrt(S(2))) / 4;
+  CHECK(std::abs(plane.first_contact(Vec3<S>(0, 3, 0), 0, Vec3<S>(0, -1, 0), 1, S(0.1)) - plane_s) <= accuracy);
+  CHECK(plane.first_contact(Vec3<S>(0, 3, 0), 0, Vec3<S>(0, 2, 0), 1, S(0.1)) < 0);
+  CHECK(plane.first_contact(Vec3<S>(0, 1, 0), 0, Vec3<S>(0, 3, 0), 1, S(0.1)) == 0);
+}
+
+TEST_CASE("swept test on random paths: never past the first contact, never a missed one", "[collider][swept]") {
+  // Dense sampling of each path is the reference: every sample before the returned s is farther than
+  // the offset, the point at s is at the offset, and a path reported as a miss has no close sample.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Collider<double>> colliders = shapes<double>();
+  colliders.push_back(Collider<double>::box(Vec3<double>(0, 0, 0), Vec3<double>(0.0005, 0.6, 0.6), tilt<double>()));
+  colliders.push_back(Collider<double>::sphere(Vec3<double>(0.1, 0, 0), 0.02).moving(Vec3<double>(-0.3, 0.2, 0)));
+  const int samples = 5000;
+  for (const Collider<double>& collider : colliders) {
+    int hits = 0, misses = 0;
+    for (int k = 0; k < 300; ++k) {
+      const double t0 = u(rng), t1 = t0 + u(rng), offset = 0.05 * u(rng);
+      const RigidPose<double> frame = collider.motion().pose(t0), end = collider.motion().pose(t1);
+      // Every other path is aimed at the shape's centre (mid-way between its poses at t0 and t1).
+      const Vec3<double> x0 = random_point<double>(rng, 1.6);
+      const Vec3<double> x1 =
+          k % 2 ? random_point<double>(rng, 1.6)
+                : Vec3<double>(frame.translation + end.translation - x0 + 2 * random_point<double>(rng, 0.06));
+      const double s = collider.first_contact(x0, t0, x1, t1, offset);
+      // The local path, placed back in the world at t0 to read the distance.
+      const Vec3<double> p0 = frame.to_local(x0), p1 = end.to_local(x1);
+      const auto gap = [&](double r) {
+        return collider.query(frame.to_world(p0 + r * (p1 - p0)), t0).distance - offset;
+      };
+      INFO(to_string(collider.kind()) << " path " << k << ", s = " << s);
+      double first_close = -1;
+      for (int j = 0; j <= samples && first_close < 0; ++j)
+        if (gap(double(j) / samples) <= 0) first_close = double(j) / samples;
+      if (s < 0) {
+        ++misses;
+        CHECK(first_close < 0);
+        continue;
+      }
+      ++hits;
+      CHECK(s <= 1);
+      CHECK(gap(s) <= 2e-6 * (1 + offset));
+      if (first_close >= 0) CHECK(s <= first_close);
+      // Finer than the samples: nothing before s comes within the offset.
+      bool clear_before = true;
+      for (int j = 0; j < 1000 && s > 0; ++j) clear_before &= gap(s * j / 1000) > 0;
+      CHECK(clear_before);
+    }
+    INFO(to_string(collider.kind()));
+    CHECK(hits >= 10);
+    CHECK(misses >= 10);
+  }
+}
+
+TEST_CASE("collider parameters are checked, each error names its parameter", "[collider][validation]") {
+  const Vec3<double> o(0, 0, 0), nan_point(0, std::nan(""), 0), inf = Vec3<double>::Constant(INFINITY);
+  CHECK_THROWS_AS(Collider<double>::sphere(o, 0), InvalidParameter);
+  CHECK_THROWS_WITH(Collider<double>::sphere(o, 0), Catch::Contains("'collider radius'"));
+  CHECK_THROWS_WITH(Collider<double>::sphere(o, -1), Catch::Contains("'collider radius'"));
+  CHECK_THROWS_WITH(Collider<double>::sphere(o, INFINITY), Catch::Contains("'collider radius'"));
+  CHECK_THROWS_WITH(Collider<double>::capsule(o, Vec3<double>(1, 0, 0), std::nan("")),
+                    Catch::Contains("'collider radius'"));
+  CHECK_THROWS_WITH(Collider<double>::sphere(nan_point, 1), Catch::Contains("'collider position'"));
+  CHECK_THROWS_WITH(Collider<double>::plane(inf, Vec3<double>(0, 1, 0)), Catch::Contains("'collider position'"));
+  CHECK_THROWS_WITH(Collider<double>::capsule(o, nan_point, 1), Catch::Contains("'collider position'"));
+  CHECK_THROWS_WITH(Collider<double>::box(inf, Vec3<double>(1, 1, 1)), Catch::Contains("'collider position'"));
+  CHECK_THROWS_WITH(Collider<double>::plane(o, o), Catch::Contains("'collider normal'"));
+  CHECK_THROWS_WITH(Collider<double>::plane(o, nan_point), Catch::Contains("'collider normal'"));
+  CHECK_THROWS_WITH(Collider<double>::capsule(Vec3<double>(1, 2, 3), Vec3<double>(1, 2, 3), 1),
+                    Catch::Contains("'capsule axis'"));
+  CHECK_THROWS_WITH(Collider<double>::box(o, Vec3<double>(1, 0, 1)), Catch::Contains("'collider half extents'"));
+  CHECK_THROWS_WITH(Collider<double>::box(o, Vec3<double>(1, 1, -2)), Catch::Contains("'collider half extents'"));
+  CHECK_THROWS_WITH(Collider<double>::box(o, nan_point), Catch::Contains("'collider half extents'"));
+  CHECK_THROWS_WITH(Collider<double>::box(o, Vec3<double>(1, 0.5, 2), Mat3<double>::Identity(), 0.6),
+                    Catch::Contains("'collider rounding'"));
+  CHECK_THROWS_WITH(Collider<double>::box(o, Vec3<double>(1, 0.5, 2), Mat3<double>::Identity(), -0.1),
+                    Catch::Contains("'collider rounding'"));
+  CHECK_NOTHROW(Collider<double>::box(o, Vec3<double>(1, 0.5, 2), Mat3<double>::Identity(), 0.5));
+  CHECK_THROWS_WITH(Collider<double>::box(o, Vec3<double>(1, 1, 1), 2 * Mat3<double>::Identity()),
+                    Catch::Contains("'collider rotation'"));
+  CHECK_THROWS_WITH(Collider<double>::box(o, Vec3<double>(1, 1, 1), -Mat3<double>::Identity()),
+                    Catch::Contains("'collider rotation'"));
+  Collider<double> ball = Collider<double>::sphere(o, 1);
+  CHECK_THROWS_WITH(ball.set_friction(-0.1, 0.2), Catch::Contains("'static friction'"));
+  CHECK_THROWS_WITH(ball.set_friction(0.3, std::nan("")), Catch::Contains("'kinetic friction'"));
+  CHECK_THROWS_WITH(ball.moving(nan_point), Catch::Contains("'collider velocity'"));
+  CHECK_THROWS_WITH(ball.moving(o, inf), Catch::Contains("'collider angular velocity'"));
+  CHECK_THROWS_WITH(ball.set_motion(RigidMotion<double>::callback(nullptr)), Catch::Contains("'collider motion'"));
+  // Kinetic friction above static is allowed; defaults are frictionless.
+  CHECK(ball.static_friction() == 0);
+  CHECK(ball.kinetic_friction() == 0);
+  ball.set_friction(0.2, 0.5);
+  CHECK(ball.static_friction() == 0.2);
+  CHECK(ball.kinetic_friction() == 0.5);
+  CHECK(ball.kind() == ShapeKind::Sphere);
+  CHECK(ball.radius() == 1);
+  CHECK(to_string(ShapeKind::Capsule) == std::string("capsule"));
+  CHECK(parse<ShapeKind>("box") == ShapeKind::Box);
+  CHECK(joined_names<ShapeKind>() == "plane, sphere, capsule, box");
+  CHECK_THROWS_WITH(parse<ShapeKind>("cone"), Catch::Contains("'collider shape'"));
+}

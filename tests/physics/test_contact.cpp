@@ -1,0 +1,272 @@
+// Contact with colliders in both integrators (physics/contact_handler.hpp): resting contact with
+// the reaction equal to the weight, Coulomb friction on a slope against g (sin a - mu cos a), no
+// tunnelling through a thin box or past a fast collider (checked by brute force on every node's
+// path), direct and iterative solvers agreeing, momentum, determinism and bad input.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+
+#include "drape/fwd.hpp"
+#include "drape/integrators/implicit_euler.hpp"
+#include "drape/integrators/make_integrator.hpp"
+#include "drape/integrators/rk2.hpp"
+#include "drape/solvers/enable_ldlt.hpp"
+#include "test_common.hpp"
+
+using namespace drape;
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+/// A free, damped n x n cloth 0.1 m apart (1 m across at n = 11), gravity 10.
+template <class S>
+ClothSpec<S> free_cloth(int n = 11) {
+  ClothSpec<S> spec = test::small_spec<S>(n, S(10));
+  spec.springs = {{S(2000), S(2)}, {S(1000), S(1)}, {S(100), S(0.2)}};
+  spec.pinned_nodes = std::vector<int>{};
+  return spec;
+}
+
+template <class S>
+std::unique_ptr<Integrator<S>> integrator(const Cloth<S>& cloth, IntegratorKind kind,
+                                          LinearSolverKind solver = LinearSolverKind::Cg) {
+  ImplicitOptions options;
+  options.dt = kind == IntegratorKind::Rk2 ? 5e-4 : 0.01;
+  options.threads = 1;
+  options.solver = solver;
+  options.tolerance = std::is_same_v<S, float> ? 1e-5 : 1e-8;
+  return make_integrator(cloth, kind, options);
+}
+
+/// Runs `seconds`, calling `check(state_before, state_after)` after every step.
+template <class S>
+void run(Integrator<S>& integrator, State<S>& state, double seconds,
+         const std::function<void(const State<S>&, const State<S>&)>& check = {}) {
+  const int steps = int(std::lround(seconds / double(integrator.dt())));
+  State<S> before;
+  for (int k = 0; k < steps; ++k) {
+    if (check) before = state;
+    const StepStatus status = integrator.step(state);
+    INFO("step " << k << ": " << to_string(status.error));
+    REQUIRE(status.ok());
+    if (check) check(before, state);
+  }
+}
+
+/// The cloth's mass-weighted mean velocity.
+template <class S>
+Vec3<double> mean_velocity(const State<S>& state) {
+  return state.velocities.template cast<double>().rowwise().mean();
+}
+
+/// Smallest distance from point c to the segment p0 -> p1.
+double segment_distance(const Vec3<double>& p0, const Vec3<double>& p1, const Vec3<double>& c) {
+  const Vec3<double> d = p1 - p0;
+  const double s = d.squaredNorm() > 0 ? std::clamp((c - p0).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (p0 + s * d - c).norm();
+}
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("contact: a cloth dropped on a plane rests on it and the floor carries its weight", "[contact]",
+                   float, double) {
+  using S = TestType;
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+    INFO(to_string(kind));
+    ClothSpec<S> spec = free_cloth<S>();
+    spec.colliders.push_back(Collider<S>::plane(Vec3<S>(0, S(-0.3), 0), Vec3<S>(0, 1, 0)));
+    const Cloth<S> cloth(spec);
+    auto stepper = integrator(cloth, kind);
+    State<S> state = cloth.initial_state();
+    const S h = cloth.contact_thickness();
+    const S floor = S(-0.3) + h;
+    run<S>(*stepper, state, 1.5, [&](const State<S>&, const State<S>& after) {
+      // Brute force: no node below the floor by more than the stated tolerance, and the
+      // end-of-step check never had to push one out.
+      REQUIRE(after.positions.row(1).minCoeff() >= floor - cloth.contact_tolerance());
+      REQUIRE(stepper->contact_report().corrected == 0);
+    });
+    const ContactReport<S>& report = stepper->contact_report();
+    const double weight = double(cloth.grid().masses().sum()) * 10.0;
+    CHECK(report.contacts == cloth.node_count());
+    CHECK(std::abs(double(report.normal_force.y()) - weight) <= 0.005 * weight);
+    CHECK(std::abs(double(report.normal_force.x())) + std::abs(double(report.normal_force.z())) <= 1e-6 * weight);
+    CHECK(mean_velocity(state).norm() <= 1e-3);
+    CHECK(std::abs(double(state.positions.row(1).mean()) - double(floor)) <= 1e-4);
+  }
+}
+
+TEMPLATE_TEST_CASE("contact: friction on a slope, sliding at g (sin a - mu cos a) or sticking", "[contact][friction]",
+                   float, double) {
+  using S = TestType;
+  const double angle = 20 * pi / 180;  // tan a = 0.364
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2})
+    for (const double mu : {0.0, 0.2, 0.5}) {
+      INFO(to_string(kind) << ", mu = " << mu);
+      ClothSpec<S> spec = free_cloth<S>();
+      const Mat3<S> tilt = Eigen::AngleAxis<S>(S(angle), Vec3<S>::UnitZ()).toRotationMatrix();
+      const Vec3<S> normal = tilt * Vec3<S>::UnitY();
+      spec.colliders.push_back(Collider<S>::plane(Vec3<S>::Zero(), normal).set_friction(S(mu), S(mu)));
+      const Cloth<S> cloth(spec);
+      auto stepper = integrator(cloth, kind);
+      State<S> state = cloth.initial_state();
+      // Laid flat on the slope, resting on it at the contact thickness.
+      state.positions = ((tilt * state.positions).colwise() + cloth.contact_thickness() * normal).eval();
+      const Vec3<double> start = state.positions.template cast<double>().rowwise().mean();
+      const Vec3<double> downhill = -(tilt * Vec3<S>::UnitX()).template cast<double>();
+      const double time = 1.0;
+      run<S>(*stepper, state, time);
+      const double travelled = (state.positions.template cast<double>().rowwise().mean() - start).dot(downhill);
+      if (mu < std::tan(angle)) {
+        // From rest at constant acceleration: s = a t^2 / 2, v = a t.
+        const double expected = 10.0 * (std::sin(angle) - mu * std::cos(angle));
+        CHECK(std::abs(mean_velocity(state).dot(downhill) / time - expected) <= 0.05 * expected);
+        CHECK(std::abs(2 * travelled / (time * time) - expected) <= 0.05 * expected);
+        CHECK(stepper->contact_report().sliding == cloth.node_count());
+      } else {
+        CHECK(std::abs(travelled) < 1e-3);
+        CHECK((state.positions.template cast<double>().rowwise().mean() - start).norm() < 1e-3);
+        CHECK(stepper->contact_report().sticking == cloth.node_count());
+      }
+    }
+}
+
+TEST_CASE("contact: a cloth thrown at a thin box never passes through it", "[contact][tunnelling]") {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+    INFO(to_string(kind));
+    ClothSpecd spec = free_cloth<double>();
+    spec.gravity = 0;
+    // 1 cm thick, 3 m wide, top face at y = 0; the cloth moves 0.3 m (implicit) or 15 mm (RK2)
+    // per step toward it, more than the box is thick.
+    const double half = 0.005;
+    spec.colliders.push_back(Colliderd::box(Vec3<double>(0.5, -half, 0.5), Vec3<double>(1.5, half, 1.5)));
+    const Clothd cloth(spec);
+    auto stepper = integrator(cloth, kind);
+    Stated state = cloth.initial_state();
+    state.positions.row(1).array() += 1.0;
+    state.velocities.row(1).setConstant(-30.0);
+    const double top = cloth.contact_thickness();
+    run<double>(*stepper, state, 0.3, [&](const Stated& before, const Stated& after) {
+      for (Index i = 0; i < after.positions.cols(); ++i) {
+        // Every node's straight path stays above the box's top face (all nodes are over the box).
+        REQUIRE(std::min(before.positions(1, i), after.positions(1, i)) >= top - cloth.contact_tolerance());
+      }
+    });
+    CHECK(state.velocities.row(1).maxCoeff() <= 1e-6);  // stopped on it, not bounced through
+  }
+}
+
+TEST_CASE("contact: a fast sphere hitting a hanging cloth never passes a node", "[contact][tunnelling]") {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+    INFO(to_string(kind));
+    ClothSpecd spec = free_cloth<double>(11);
+    spec.pinned_nodes = std::vector<int>{0, 10};  // two corners
+    const double radius = 0.15, speed = 20.0;
+    const Vec3<double> start(0.5, -1.0, 0.5);  // under the cloth's middle, moving up at 20 m/s
+    spec.colliders.push_back(Colliderd::sphere(start, radius).moving(Vec3<double>(0, speed, 0)));
+    const Clothd cloth(spec);
+    auto stepper = integrator(cloth, kind);
+    Stated state = cloth.initial_state();
+    const double h = cloth.contact_thickness();
+    run<double>(*stepper, state, 0.1, [&](const Stated& before, const Stated& after) {
+      // In the sphere's frame each node moves on a straight line from where it was to where it
+      // is: that path must stay outside the sphere inflated by h (the sphere moves 0.33 m per
+      // implicit step, more than its diameter).
+      const double t0 = before.time, t1 = after.time;
+      const Vec3<double> c0 = start + Vec3<double>(0, speed * t0, 0), c1 = start + Vec3<double>(0, speed * t1, 0);
+      for (Index i = 0; i < after.positions.cols(); ++i) {
+        const Vec3<double> p0 = before.positions.col(i) - c0, p1 = after.positions.col(i) - c1;
+        REQUIRE(segment_distance(p0, p1, Vec3<double>::Zero()) >= radius + h - cloth.contact_tolerance());
+      }
+    });
+    // The sphere hit the cloth and threw it up (only nodes collide: the cloth can also slip off
+    // between them, see drape's contact.md).
+    CHECK(state.positions.row(1).maxCoeff() > 0.3);
+  }
+}
+
+TEST_CASE("contact: direct and iterative solvers give the same contact step", "[contact][solvers]") {
+  ClothSpecd spec = free_cloth<double>(7);
+  spec.colliders.push_back(Colliderd::sphere(Vec3<double>(0.3, -0.5, 0.3), 0.45));
+  spec.colliders.push_back(Colliderd::plane(Vec3<double>(0, -0.7, 0), Vec3<double>(0, 1, 0)));
+  const Clothd cloth(spec);
+  auto cg = integrator(cloth, IntegratorKind::Implicit, LinearSolverKind::Cg);
+  auto ldlt = integrator(cloth, IntegratorKind::Implicit, LinearSolverKind::Ldlt);
+  // Draped over the sphere first, then one step from the same state with each solver (whole
+  // trajectories part ways: a contact on the edge of letting go can decide either way).
+  Stated state = cloth.initial_state();
+  for (int k = 0; k < 40; ++k) REQUIRE(cg->step(state).ok());
+  Stated a = state, b = state;
+  REQUIRE(cg->step(a).ok());
+  REQUIRE(ldlt->step(b).ok());
+  CHECK(cg->contact_report().contacts > 10);
+  CHECK(cg->contact_report().contacts == ldlt->contact_report().contacts);
+  CHECK((a.positions - b.positions).cwiseAbs().maxCoeff() <= 1e-8);
+  CHECK((a.velocities - b.velocities).cwiseAbs().maxCoeff() <= 1e-6);
+}
+
+TEST_CASE("contact: colliders out of reach change nothing; momentum kept without external forces",
+          "[contact][momentum]") {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+    INFO(to_string(kind));
+    ClothSpecd spec = free_cloth<double>(7);
+    spec.gravity = 0;
+    const Clothd bare(spec);
+    spec.colliders.push_back(Colliderd::sphere(Vec3<double>(0, 50, 0), 1.0));
+    spec.colliders.push_back(Colliderd::plane(Vec3<double>(0, -50, 0), Vec3<double>(0, 1, 0)));
+    const Clothd with_colliders(spec);
+    auto a = integrator(bare, kind);
+    auto b = integrator(with_colliders, kind);
+    Stated sa = bare.initial_state();
+    sa.positions = test::jiggled_positions(bare, 0.2, 3u);
+    sa.velocities = test::random_velocities<double>(bare.node_count(), 0.5, 4u);
+    Stated sb = sa;
+    const Vec3<double> momentum = sa.velocities * bare.grid().masses();
+    for (int k = 0; k < 100; ++k) {
+      REQUIRE(a->step(sa).ok());
+      REQUIRE(b->step(sb).ok());
+    }
+    CHECK(sa.positions == sb.positions);
+    CHECK(b->contact_report().contacts == 0);
+    CHECK((sb.velocities * bare.grid().masses() - momentum).norm() <= 1e-7 * momentum.norm());
+  }
+}
+
+TEST_CASE("contact: same inputs and threads give bit-identical states", "[contact][determinism]") {
+  ClothSpecd spec = free_cloth<double>(17);
+  spec.colliders.push_back(Colliderd::sphere(Vec3<double>(0.8, -0.5, 0.8), 0.45).set_friction(0.4, 0.3));
+  spec.colliders.push_back(Colliderd::plane(Vec3<double>(0, -0.9, 0), Vec3<double>(0, 1, 0)).set_friction(0.5, 0.5));
+  const Clothd cloth(spec);
+  for (const int threads : {1, 2}) {
+    ImplicitOptions options;
+    options.dt = 0.01;
+    options.threads = threads;
+    Stated s1 = cloth.initial_state(), s2 = s1;
+    auto a = make_integrator(cloth, IntegratorKind::Implicit, options);
+    auto b = make_integrator(cloth, IntegratorKind::Implicit, options);
+    for (int k = 0; k < 80; ++k) {
+      REQUIRE(a->step(s1).ok());
+      REQUIRE(b->step(s2).ok());
+    }
+    CHECK(a->contact_report().contacts > 0);
+    CHECK(s1.positions == s2.positions);
+    CHECK(s1.velocities == s2.velocities);
+  }
+}
+
+TEST_CASE("contact: bad input names the parameter", "[contact][validation]") {
+  ClothSpecd spec = test::small_spec<double>(5, 10.0);  // two corners pinned, at y = 0
+  spec.colliders.push_back(Colliderd::sphere(Vec3<double>(0, 0, 0), 0.1));
+  CHECK_THROWS_WITH(Clothd(spec), Catch::Contains("colliders[0]") && Catch::Contains("pinned node 0"));
+  spec.colliders.clear();
+  spec.contact_thickness = -0.001;
+  CHECK_THROWS_WITH(Clothd(spec), Catch::Contains("contact thickness"));
+  spec.contact_thickness = 0.005;
+  const Clothd cloth(spec);
+  ImplicitOptions options;
+  options.contact_rounds = 0;
+  CHECK_THROWS_WITH(ImplicitEulerd(cloth, options), Catch::Contains("contact_rounds"));
+}
