@@ -17,6 +17,8 @@
 #include "drape/core/grid.hpp"
 #include "drape/core/spring_set.hpp"
 #include "drape/core/pins.hpp"
+#include "drape/core/pin_path.hpp"
+#include "drape/core/pin_set.hpp"
 #include "drape/core/state.hpp"
 #include "drape/core/force_term.hpp"
 #include "drape/core/collider.hpp"

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -123,9 +124,16 @@ class ImplicitEuler final : public Integrator<Scalar> {
   VectorX<Scalar> m_g, m_delta;
   int m_newton_done = 0;
   double m_newton_residual = 0;
+  Matrix3X<Scalar> m_pin_end;         // the pins' positions at the end of the step
+  std::uint64_t m_pins_laid_out = 0;  // pins().version() of the system's layout
 
   /// Checks the solver against the options and sets up the system (both constructors).
   void set_up();
+  /// The system's layout for the current pins (holding pins eliminated or fixed), and the
+  /// solver's analysis of it: at construction and after the pins change.
+  void lay_out();
+  /// Rows of pins that move: fixed to the velocity change that puts them on their paths.
+  void constrain_moving_pins(const State<Scalar>& state, Scalar dt);
   /// x+ = x + dt (v + dv), v+ = v + dv into m_x_new, m_v_new (pinned nodes fixed).
   void advance(const State<Scalar>& state, Scalar dt);
   /// g = S(M dv - dt f(m_x_new, m_v_new)) on the system rows at `time`; returns |g|.
@@ -178,15 +186,38 @@ void ImplicitEuler<Scalar>::set_up() {
     detail::fail_argument("solver", "'" + m_solver->name() + "' with colliders",
                           "a solver that takes constraints (contacts are constraints of the solve)");
   const int n = this->cloth().node_count();
-  m_system = m_assembler.make_system();
-  m_dv.setZero(m_system.size());
   m_x_new.resize(3, n);
   m_v_new.resize(3, n);
-  m_solver->analyze(m_system);  // symbolic work once per cloth
+  if (m_options.newton_iterations > 1) m_f.resize(3, n);
+  m_pins_laid_out = this->pins().version();
+  lay_out();
+}
+
+template <class Scalar>
+void ImplicitEuler<Scalar>::lay_out() {
+  if (this->pins().version() != m_pins_laid_out) {
+    m_assembler =
+        JacobianAssembler<Scalar>(this->cloth(), this->pins().holding(), m_options.pin_treatment, m_options.threads);
+    m_pins_laid_out = this->pins().version();
+  }
+  m_system = m_assembler.make_system();
+  m_dv.setZero(m_system.size());
+  m_solver->analyze(m_system);  // symbolic work once per layout
   if (m_options.newton_iterations > 1) {
-    m_f.resize(3, n);
     m_g.setZero(m_system.size());
     m_delta.setZero(m_system.size());
+  }
+}
+
+template <class Scalar>
+void ImplicitEuler<Scalar>::constrain_moving_pins(const State<Scalar>& state, Scalar dt) {
+  const PinSet<Scalar>& pins = this->pins();
+  const std::vector<int>& row_of_node = m_assembler.row_of_node();
+  for (std::size_t k = 0; k < pins.nodes().size(); ++k) {
+    if (pins.path(k).holds()) continue;
+    const int node = pins.nodes()[k];
+    const Vec3<Scalar> velocity = (m_pin_end.col(Index(k)) - state.positions.col(node)) / dt;
+    m_system.constraints.fix(row_of_node[static_cast<std::size_t>(node)], velocity - state.velocities.col(node));
   }
 }
 
@@ -196,10 +227,11 @@ void ImplicitEuler<Scalar>::advance(const State<Scalar>& state, Scalar dt) {
   const std::vector<int>& node_of_row = m_assembler.node_of_row();
   for (std::size_t r = 0; r < node_of_row.size(); ++r)
     m_v_new.col(node_of_row[r]) += m_dv.template segment<3>(3 * static_cast<Index>(r));
-  const std::vector<int>& pins = this->cloth().pins().nodes();
-  for (int p : pins) m_v_new.col(p).setZero();
+  const std::vector<int>& pins = this->pins().nodes();
+  for (std::size_t k = 0; k < pins.size(); ++k)
+    m_v_new.col(pins[k]) = (m_pin_end.col(Index(k)) - state.positions.col(pins[k])) / dt;
   m_x_new = state.positions + dt * m_v_new;
-  for (int p : pins) m_x_new.col(p) = state.positions.col(p);
+  for (std::size_t k = 0; k < pins.size(); ++k) m_x_new.col(pins[k]) = m_pin_end.col(Index(k));
 }
 
 template <class Scalar>
@@ -222,7 +254,10 @@ template <class Scalar>
 StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state) {
   this->require_state_fits(state);
   const Scalar dt = this->dt();
+  if (this->pins().version() != m_pins_laid_out) lay_out();
+  this->pins().positions(state.time + dt, state.positions, m_pin_end);
   m_assembler.assemble_system(state.positions, state.velocities, state.time, dt, m_options.jacobian, m_system);
+  constrain_moving_pins(state, dt);
   // Contacts become velocity constraints of the solve; solved again while the set changes.
   ContactHandler<Scalar>& contacts = this->contacts();
   const std::vector<int>& row_of_node = m_assembler.row_of_node();
@@ -245,7 +280,7 @@ StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state) {
     if (status.ok()) status.error = StepError::NonFiniteState;
     return status;
   }
-  // v+ = v + dv on free nodes, 0 on pinned ones; x+ = x + dt v+ (pinned nodes stay put).
+  // v+ = v + dv on free nodes; pinned nodes on their paths; x+ = x + dt v+.
   advance(state, dt);
   m_newton_done = 1;
   m_newton_residual = 0;
@@ -295,7 +330,7 @@ StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state) {
       return {StepError::NoConvergence, status.iterations, m_newton_residual};
     }
   }
-  contacts.respond(state.positions, state.velocities, state.time, dt, m_x_new, m_v_new);
+  contacts.respond(state.positions, state.velocities, state.time, dt, m_x_new, m_v_new, this->pins().mask());
   if (!(m_x_new.allFinite() && m_v_new.allFinite())) {
     m_dv.setZero();
     status.error = StepError::NonFiniteState;

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "drape/core/cloth.hpp"
+#include "drape/core/pin_set.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/core/state.hpp"
 #include "drape/core/validation.hpp"
@@ -61,13 +62,17 @@ class Integrator {
     m_dt = dt;
   }
   const Cloth<Scalar>& cloth() const { return *m_cloth; }
+  /// The pins of this run: the cloth's at the start, holding still; pin, move and release nodes
+  /// between steps (core/pin_set.hpp). A pinned node ends each step on its path.
+  PinSet<Scalar>& pins() { return m_pins; }
+  const PinSet<Scalar>& pins() const { return m_pins; }
   /// What the cloth's contacts did in the last step (empty without colliders).
   const ContactReport<Scalar>& contact_report() const { return m_contacts.report(); }
 
  protected:
   /// \throws InvalidParameter as IntegratorOptions::validate().
   Integrator(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
-      : m_cloth(&cloth), m_dt((options.validate(), Scalar(options.dt))), m_contacts(cloth) {
+      : m_cloth(&cloth), m_dt((options.validate(), Scalar(options.dt))), m_pins(cloth.pins()), m_contacts(cloth) {
     set_dt(m_dt);  // the conversion to Scalar must not make it 0 or infinite
   }
 
@@ -85,6 +90,7 @@ class Integrator {
  private:
   const Cloth<Scalar>* m_cloth;
   Scalar m_dt;
+  PinSet<Scalar> m_pins;
   ContactHandler<Scalar> m_contacts;
 };
 

@@ -3,7 +3,8 @@
 /// Explicit midpoint rule (RK2):
 /// \f[ q_{t+1} = q_t + \Delta t\, F\!\left(q_t + \tfrac{\Delta t}{2} F(q_t)\right), \quad
 ///     q = (x, v), \quad F(q) = (v,\; M^{-1} f(x, v)). \f]
-/// Pinned nodes are reset to their position and zero velocity after each stage, so they never move.
+/// Pinned nodes are set on their paths after each stage (the midpoint's position at t + dt/2, the
+/// end's at t + dt, the velocity (x(t + dt) - x) / dt): a holding pin never moves.
 /// Contacts with colliders are resolved on the step's result (physics/contact_handler.hpp).
 /// Conditionally stable: see drape's parameters.md for the largest stable dt.
 ///
@@ -44,6 +45,8 @@ class Rk2 final : public Integrator<Scalar> {
   Matrix3X<Scalar> m_x_new, m_v_new;
   /// The midpoint as 3 x n node data, for the force terms (empty without terms).
   Matrix3X<Scalar> m_x_mid, m_v_mid;
+  /// The pins' positions at the midpoint and the end of the step (pins().nodes() order).
+  Matrix3X<Scalar> m_pin_mid, m_pin_end;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -76,7 +79,9 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
   Scalar* const v_mid[3] = {&m_midpoint[3 * std::size_t(n)], &m_midpoint[4 * std::size_t(n)],
                             &m_midpoint[5 * std::size_t(n)]};
   const Scalar* inverse_mass = m_inverse_mass.data();
-  const std::vector<int>& pins = m_forces.cloth().pins().nodes();
+  const std::vector<int>& pins = this->pins().nodes();
+  this->pins().positions(state.time + half, state.positions, m_pin_mid);
+  this->pins().positions(state.time + dt, state.positions, m_pin_end);
   // Pins inside [begin, end): pins are sorted.
   const auto pins_in = [&](Index begin, Index end) {
     return std::make_pair(std::lower_bound(pins.begin(), pins.end(), begin),
@@ -103,12 +108,13 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
           vm[j] = v[3 * i + k] + half * (f[j] * inverse_mass[i]);
         }
       }
-      // Pinned nodes stay put whatever velocity the caller left on them.
+      // Pinned nodes follow their paths whatever velocity the caller left on them.
       const auto pinned = pins_in(i0, i0 + block.count);
       for (auto p = pinned.first; p != pinned.second; ++p) {
+        const Index pin = p - pins.begin();
         for (int k = 0; k < 3; ++k) {
-          x_mid[k][*p] = x[3 * *p + k];
-          v_mid[k][*p] = 0;
+          x_mid[k][*p] = m_pin_mid(k, pin);
+          v_mid[k][*p] = (m_pin_end(k, pin) - x[3 * *p + k]) / dt;
         }
       }
     });
@@ -143,9 +149,10 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
       }
       const auto pinned = pins_in(i0, i0 + block.count);
       for (auto p = pinned.first; p != pinned.second; ++p) {
+        const Index pin = p - pins.begin();
         for (int k = 0; k < 3; ++k) {
-          x_new[3 * *p + k] = x[3 * *p + k];
-          v_new[3 * *p + k] = 0;
+          x_new[3 * *p + k] = m_pin_end(k, pin);
+          v_new[3 * *p + k] = (m_pin_end(k, pin) - x[3 * *p + k]) / dt;
         }
       }
       const Scalar* xn = x_new + 3 * i0;
@@ -158,7 +165,7 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
 
   if (!finite.load(std::memory_order_relaxed)) return {StepError::NonFiniteState, 0, 0.0};
   // Contacts: an impulse to each node that reaches a collider, friction, the end-of-step check.
-  this->contacts().respond(state.positions, state.velocities, state.time, dt, m_x_new, m_v_new);
+  this->contacts().respond(state.positions, state.velocities, state.time, dt, m_x_new, m_v_new, this->pins().mask());
   state.positions.swap(m_x_new);
   state.velocities.swap(m_v_new);
   state.time += dt;

@@ -27,6 +27,7 @@
 /// `ContactReport::corrected` (zero in the tested scenes).
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -75,9 +76,10 @@ class ContactHandler {
               ConstraintFilter<Scalar>& c);
 
   /// Both integrators, on the step's result `x_new`, `v_new` from (x, v) at t: the RK2 contact
-  /// impulses (nodes not already constrained), friction, and the end-of-step check.
+  /// impulses (nodes not already constrained), friction, and the end-of-step check. Nodes with
+  /// `pinned[i] != 0` follow their pins and are left alone.
   void respond(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt, Ref3X<Scalar> x_new,
-               Ref3X<Scalar> v_new);
+               Ref3X<Scalar> v_new, const std::vector<std::uint8_t>& pinned);
 
  private:
   struct Contact {
@@ -238,7 +240,8 @@ void ContactHandler<Scalar>::apply_friction(const Contact& contact, Vec3<Scalar>
 
 template <class Scalar>
 void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt,
-                                     Ref3X<Scalar> x_new, Ref3X<Scalar> v_new) {
+                                     Ref3X<Scalar> x_new, Ref3X<Scalar> v_new,
+                                     const std::vector<std::uint8_t>& pinned) {
   if (!active()) return;
   if (!m_constrained) {  // a step without constrain() (RK2): start afresh
     for (const Contact& contact : m_contacts) m_slot[static_cast<std::size_t>(contact.node)] = -1;
@@ -247,12 +250,11 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
   }
   m_constrained = false;
   const auto& colliders = m_cloth->colliders();
-  const Pins& pins = m_cloth->pins();
   const VectorX<Scalar>& masses = m_cloth->grid().masses();
   const Scalar h = m_cloth->contact_thickness();
   for (Index i = 0; i < x.cols(); ++i) {
     const int node = static_cast<int>(i);
-    if (pins.is_pinned(node)) continue;
+    if (pinned[static_cast<std::size_t>(node)] != 0) continue;
     const Scalar mass = masses[i];
     int slot = m_slot[static_cast<std::size_t>(node)];
     if (slot < 0) {
@@ -277,7 +279,7 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
   // The guarantee: no node ends deeper than the tolerance.
   const Scalar tolerance = m_cloth->contact_tolerance();
   for (Index i = 0; i < x.cols(); ++i) {
-    if (pins.is_pinned(static_cast<int>(i))) continue;
+    if (pinned[static_cast<std::size_t>(i)] != 0) continue;
     for (const Collider<Scalar>& collider : colliders) {
       const ColliderContact<Scalar> q = collider.query(x_new.col(i), t + dt);
       if (q.distance >= h) continue;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "drape/core/cloth.hpp"
 #include "drape/physics/force_assembler.hpp"
@@ -53,15 +54,34 @@ Scalar max_strain(const Cloth<Scalar>& cloth, const detail::NonDeducedT<ConstRef
   return worst;
 }
 
-/// Total force the pins exert on the cloth (N): minus the sum of all forces (springs, gravity, force
-/// terms) on the pinned nodes. At static equilibrium it balances the cloth's weight.
+/// Force each pin in `pinned` exerts on its node (N, 3 x pinned.size()): what moves the node as
+/// it moves, \f$ m a - f \f$, with f all other forces (springs, gravity, force terms) and
+/// `acceleration` the pinned nodes' accelerations (3 x pinned.size(); zero for pins that hold).
 template <class Scalar>
-Vec3<Scalar> pin_reaction(const Cloth<Scalar>& cloth, const State<Scalar>& state) {
+Matrix3X<Scalar> pin_forces(const Cloth<Scalar>& cloth, const State<Scalar>& state, const std::vector<int>& pinned,
+                            const Matrix3X<Scalar>& acceleration) {
+  Matrix3X<Scalar> f(3, cloth.node_count());
+  ForceAssembler<Scalar>(cloth, 1).force(state.positions, state.velocities, state.time, f);
+  Matrix3X<Scalar> r(3, static_cast<Index>(pinned.size()));
+  for (std::size_t k = 0; k < pinned.size(); ++k)
+    r.col(Index(k)) = cloth.grid().masses()[pinned[k]] * acceleration.col(Index(k)) - f.col(pinned[k]);
+  return r;
+}
+
+/// Total force the pins exert on the cloth (N): minus the sum of all forces (springs, gravity, force
+/// terms) on the pinned nodes (the cloth's, or `pinned`). At static equilibrium it balances the
+/// cloth's weight.
+template <class Scalar>
+Vec3<Scalar> pin_reaction(const Cloth<Scalar>& cloth, const State<Scalar>& state, const std::vector<int>& pinned) {
   Matrix3X<Scalar> f(3, cloth.node_count());
   ForceAssembler<Scalar>(cloth, 1).force(state.positions, state.velocities, state.time, f);
   Vec3<Scalar> r = Vec3<Scalar>::Zero();
-  for (int p : cloth.pins().nodes()) r -= f.col(p);
+  for (int p : pinned) r -= f.col(p);
   return r;
+}
+template <class Scalar>
+Vec3<Scalar> pin_reaction(const Cloth<Scalar>& cloth, const State<Scalar>& state) {
+  return pin_reaction(cloth, state, cloth.pins().nodes());
 }
 
 /// Largest force norm on a free node (N): zero at static equilibrium.

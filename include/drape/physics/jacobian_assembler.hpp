@@ -59,9 +59,14 @@ class JacobianAssembler {
   static constexpr long long min_springs_per_thread = 4096;
 
   /// \param threads 0 = all available.
-  explicit JacobianAssembler(const Cloth<Scalar>& cloth, PinTreatment pins = PinTreatment::Eliminate, int threads = 0);
+  explicit JacobianAssembler(const Cloth<Scalar>& cloth, PinTreatment pins = PinTreatment::Eliminate, int threads = 0)
+      : JacobianAssembler(cloth, cloth.pins().nodes(), pins, threads) {}
+  /// With `held` (sorted node ids) as the nodes whose velocity stays 0 instead of the cloth's pins:
+  /// eliminated, or fixed rows under PinTreatment::Filter (an integrator's current pins that hold).
+  JacobianAssembler(const Cloth<Scalar>& cloth, const std::vector<int>& held, PinTreatment pins, int threads);
   /// The assembler keeps a reference to the cloth: a temporary would dangle.
   JacobianAssembler(const Cloth<Scalar>&& cloth, PinTreatment pins = PinTreatment::Eliminate, int threads = 0) = delete;
+  JacobianAssembler(const Cloth<Scalar>&& cloth, const std::vector<int>& held, PinTreatment pins, int threads) = delete;
 
   const Cloth<Scalar>& cloth() const { return *m_cloth; }
   PinTreatment pin_treatment() const { return m_pins; }
@@ -118,6 +123,7 @@ class JacobianAssembler {
   const Cloth<Scalar>* m_cloth;
   PinTreatment m_pins;
   int m_threads;
+  std::vector<int> m_held;  // nodes whose velocity stays 0
   std::vector<int> m_row_of_node, m_node_of_row;
   std::vector<std::array<int, 6>> m_slots;  // per spring: row a, row b, block aa, bb, ab, ba (-1 = none)
   std::vector<int> m_incidence_begin;       // per row, into m_incidence
@@ -133,12 +139,16 @@ class JacobianAssembler {
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, PinTreatment pins, int threads)
-    : m_cloth(&cloth), m_pins(pins), m_threads(threads) {
+JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, const std::vector<int>& held,
+                                             PinTreatment pins, int threads)
+    : m_cloth(&cloth), m_pins(pins), m_threads(threads), m_held(held) {
   const int n = cloth.node_count();
+  Pins::validate(held, n);
+  std::vector<std::uint8_t> is_held(static_cast<std::size_t>(n), 0);
+  for (int node : held) is_held[static_cast<std::size_t>(node)] = 1;
   m_row_of_node.assign(static_cast<std::size_t>(n), -1);
   for (int i = 0; i < n; ++i) {
-    if (cloth.pins().is_pinned(i) && pins == PinTreatment::Eliminate) continue;
+    if (is_held[static_cast<std::size_t>(i)] != 0 && pins == PinTreatment::Eliminate) continue;
     m_row_of_node[static_cast<std::size_t>(i)] = static_cast<int>(m_node_of_row.size());
     m_node_of_row.push_back(i);
   }
@@ -235,7 +245,7 @@ LinearSystem<Scalar> JacobianAssembler<Scalar>::make_system() const {
   system.layout = GridLayout{m_cloth->grid().nx(), m_cloth->grid().ny(), m_row_of_node};
   system.constraints = ConstraintFilter<Scalar>(system_nodes());
   if (m_pins == PinTreatment::Filter)
-    for (int node : m_cloth->pins().nodes()) system.constraints.fix(m_row_of_node[static_cast<std::size_t>(node)]);
+    for (int node : m_held) system.constraints.fix(m_row_of_node[static_cast<std::size_t>(node)]);
   system.rhs.setZero(3 * static_cast<Index>(system_nodes()));
   return system;
 }
