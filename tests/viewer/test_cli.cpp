@@ -15,7 +15,9 @@
 #include <vector>
 
 #include "drape/io/state_io.hpp"
+#include "drape/viewer/camera.hpp"
 #include "drape/viewer/png.hpp"
+#include "render_settings.hpp"
 
 namespace fs = std::filesystem;
 
@@ -193,6 +195,11 @@ TEST_CASE("a render writes complete frames, OBJ files and one CSV row per frame"
   REQUIRE(obj == 4);
   const std::string csv = read_text(dir / "out" / "log.csv");
   REQUIRE(csv.rfind("frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,", 0) == 0);
+  // The same columns for every run (docs/viewer.md), the contact, pin and air ones at the end.
+  REQUIRE(csv.substr(0, csv.find('\n')) ==
+          "frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,spring_energy,gravity_energy,"
+          "total_energy,max_strain,solver_iterations,max_residual,contacts,sticking,sliding,corrected,contact_rounds,"
+          "deepest_penetration,normal_force,normal_force_y,friction_force,pin_reaction_y,air_power");
   REQUIRE(std::count(csv.begin(), csv.end(), '\n') == 5);
   fs::remove_all(dir);
 }
@@ -266,7 +273,7 @@ TEST_CASE("real-time mode paces the run and logs steps and dropped time per fram
     std::string field;
     std::vector<double> v;
     while (std::getline(ls, field, ',')) v.push_back(std::stod(field));
-    REQUIRE(v.size() == 13);
+    REQUIRE(v.size() == 24);
     REQUIRE(v[3] <= 5);   // steps within the cap
     REQUIRE(v[4] >= 0);   // dropped time
   }
@@ -484,4 +491,403 @@ TEST_CASE("scenes/flag.toml runs its whole length without a failed step", "[cli]
   REQUIRE(r.code == 0);  // a failed step would exit with 3
   REQUIRE_THAT(r.output, Catch::Contains("181 frames") && Catch::Contains("with air drag + aerodynamic force"));
   fs::remove_all(dir);
+}
+
+// ---- colliders ---------------------------------------------------------------------------------
+
+namespace {
+
+/// parse_settings() in this process, as drape-render runs it; `args` after the program name.
+drape::render::Settings parse(std::vector<std::string> args) {
+  args.insert(args.begin(), "drape-render");
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  drape::render::Settings s;
+  int exit_code = 0;
+  REQUIRE(drape::render::parse_settings(int(args.size()), argv.data(), s, exit_code));
+  return s;
+}
+
+/// The message of parse_settings()'s SettingsError for a scene file with `toml` and `flags`; ""
+/// if it accepts them.
+std::string parse_error(const fs::path& dir, const std::string& toml, std::vector<std::string> flags = {}) {
+  std::ofstream(dir / "scene.toml") << toml;
+  flags.insert(flags.begin(), {"--scene", (dir / "scene.toml").string()});
+  try {
+    (void)parse(flags);
+  } catch (const drape::render::SettingsError& e) { return e.what(); }
+  return "";
+}
+
+double distance(const drape::Colliderd& c, double x, double y, double z, double t = 0) {
+  return c.query(drape::Vec3<double>(x, y, z), t).distance;
+}
+
+const fs::path scenes_dir = fs::path(__FILE__).parent_path().parent_path().parent_path() / "scenes";
+
+/// The rows of a log.csv as numbers (the header dropped).
+std::vector<std::vector<double>> csv_rows(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::stringstream ls(line);
+    std::string field;
+    rows.emplace_back();
+    while (std::getline(ls, field, ',')) rows.back().push_back(std::stod(field));
+  }
+  return rows;
+}
+
+// Columns of log.csv.
+constexpr int col_contacts = 13, col_corrected = 16, col_deepest = 18, col_normal_y = 20, col_pin_y = 22;
+
+}  // namespace
+
+TEST_CASE("colliders: [[colliders]] tables build the library's colliders where the file puts them", "[cli][colliders]") {
+  const fs::path dir = fresh_dir("colliders_parse");
+  std::ofstream(dir / "scene.toml") << R"(
+contact-thickness = 0.01
+contact-rounds = 7
+integrator = "implicit"
+floor-collider = true
+floor-friction = 0.2
+floor-height = -2.0
+
+[[colliders]]
+shape = "plane"
+point = [0.0, -1.0, 0.0]
+normal = [0.0, 2.0, 0.0]
+
+[[colliders]]
+shape = "sphere"
+center = [1.0, 2.0, 3.0]
+radius = 0.5
+static_friction = 0.4
+velocity = [1.0, 0.0, 0.0]
+
+[[colliders]]
+shape = "capsule"
+a = [0.0, -3.0, 0.0]
+b = [2.0, -3.0, 0.0]
+radius = 0.25
+kinetic_friction = 0.3
+
+[[colliders]]
+shape = "box"
+center = [0.0, -3.0, 0.0]
+half_extents = [1.0, 0.5, 2.0]
+rotation_axis = [0.0, 3.0, 0.0]
+rotation_angle = 90.0
+rounding = 0.1
+static_friction = 0.5
+kinetic_friction = 0.2
+angular_velocity = [0.0, 1.0, 0.0]
+)";
+  const drape::render::Settings s = parse({"--scene", (dir / "scene.toml").string()});
+  const std::vector<drape::Colliderd>& c = s.cloth.colliders;
+  REQUIRE(c.size() == 4);
+  REQUIRE(s.collider_keys == std::vector<std::string>{"colliders[0]", "colliders[1]", "colliders[2]", "colliders[3]"});
+  REQUIRE(s.cloth.contact_thickness == 0.01);
+  REQUIRE(s.stepping.contact_rounds == 7);
+
+  // The plane y = -1, normal +y (the normal's length does not matter).
+  REQUIRE(c[0].kind() == drape::ShapeKind::Plane);
+  REQUIRE(distance(c[0], 3, 0.5, 7) == Approx(1.5));
+  REQUIRE(c[0].query(drape::Vec3<double>(3, 0.5, 7), 0).normal.isApprox(drape::Vec3<double>::UnitY()));
+  REQUIRE(c[0].motion().is_static());
+  REQUIRE(c[0].static_friction() == 0);
+  REQUIRE(c[0].kinetic_friction() == 0);
+  // The sphere, moving at 1 m/s along x; kinetic friction defaults to the static one.
+  REQUIRE(c[1].kind() == drape::ShapeKind::Sphere);
+  REQUIRE(distance(c[1], 1, 4, 3) == Approx(1.5));
+  REQUIRE(distance(c[1], 3, 4, 3, 2.0) == Approx(1.5));  // moved by 2 m at t = 2 s
+  REQUIRE(!c[1].motion().is_static());
+  REQUIRE(c[1].static_friction() == 0.4);
+  REQUIRE(c[1].kinetic_friction() == 0.4);
+  // The capsule from a to b; static friction defaults to the kinetic one.
+  REQUIRE(c[2].kind() == drape::ShapeKind::Capsule);
+  REQUIRE(distance(c[2], 1, -2, 0) == Approx(0.75));
+  REQUIRE(distance(c[2], 3, -3, 0) == Approx(0.75));
+  REQUIRE(distance(c[2], -1, -3, 0) == Approx(0.75));
+  REQUIRE(c[2].static_friction() == 0.3);
+  REQUIRE(c[2].kinetic_friction() == 0.3);
+  // The box turned 90 degrees about +y: its x half extent (1) lies along z, its z (2) along x.
+  REQUIRE(c[3].kind() == drape::ShapeKind::Box);
+  REQUIRE(distance(c[3], 0, -3, 3) == Approx(2.0));
+  REQUIRE(distance(c[3], 3, -3, 0) == Approx(1.0));
+  // Its edges rounded with radius 0.1: 0.1 m out from both faces at an edge is
+  // sqrt(2) * 0.2 - 0.1 from the rounded edge (local (1.1, 0.6, 0) is world (0, -2.4, -1.1)).
+  REQUIRE(distance(c[3], 0, -2.4, -1.1) == Approx(std::sqrt(2.0) * 0.2 - 0.1));
+  REQUIRE(c[3].rounding() == 0.1);
+  // Spinning at 1 rad/s about +y: after pi/2 s it has turned 180 degrees in all.
+  REQUIRE(distance(c[3], 0, -3, 3, std::acos(-1.0) / 2) == Approx(1.0));
+  REQUIRE(c[3].static_friction() == 0.5);
+  REQUIRE(c[3].kinetic_friction() == 0.2);
+
+  // The floor: --floor-height wins over the plane facing +y, which would set it otherwise.
+  REQUIRE(s.floor.collider);
+  REQUIRE(s.floor.friction == 0.2);
+  REQUIRE(drape::render::fixed_floor_height(s) == -2.0);
+  const drape::Colliderd floor = drape::render::floor_collider(s, -2.0);
+  REQUIRE(distance(floor, 5, -1, 5) == Approx(1.0));
+  REQUIRE(floor.static_friction() == 0.2);
+  REQUIRE(floor.kinetic_friction() == 0.2);
+  REQUIRE(drape::render::is_floor(floor, -2.0));
+  REQUIRE(drape::render::is_floor(c[0], -1.0));
+  REQUIRE(!drape::render::is_floor(c[0], -2.0));
+  REQUIRE(!drape::render::is_floor(c[1], 2.0));
+
+  // Flags override the file's keys; --sphere comes after the file's colliders.
+  const drape::render::Settings f =
+      parse({"--scene", (dir / "scene.toml").string(), "--contact-thickness", "0.02", "--contact-rounds", "3",
+             "--floor-friction", "0.6", "--floor-height", "-1.5", "--sphere", "5", "6", "7", "0.5"});
+  REQUIRE(f.cloth.contact_thickness == 0.02);
+  REQUIRE(f.stepping.contact_rounds == 3);
+  REQUIRE(f.floor.friction == 0.6);
+  REQUIRE(drape::render::fixed_floor_height(f) == -1.5);
+  REQUIRE(f.cloth.colliders.size() == 5);
+  REQUIRE(f.collider_keys.back() == "--sphere");
+  REQUIRE(distance(f.cloth.colliders.back(), 5, 8, 7) == Approx(1.5));
+  REQUIRE(f.cloth.colliders.back().kind() == drape::ShapeKind::Sphere);
+
+  // Without --floor-height the floor goes to the highest static plane facing +y; without any, the
+  // camera chooses it at run time.
+  std::ofstream(dir / "planes.toml") << "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.7, 0]\nnormal = [0, 1, 0]\n"
+                                        "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.4, 0]\nnormal = [0, 1, 0]\n"
+                                        "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.1, 0]\nnormal = [1, 1, 0]\n"
+                                        "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.2, 0]\nnormal = [0, 1, 0]\n"
+                                        "velocity = [0, -1, 0]\n";
+  REQUIRE(drape::render::fixed_floor_height(parse({"--scene", (dir / "planes.toml").string()})) == -0.4);
+  REQUIRE(!drape::render::fixed_floor_height(parse({"--sphere", "5", "6", "7", "0.5"})));
+  REQUIRE(parse({}).cloth.colliders.empty());  // none by default
+  fs::remove_all(dir);
+}
+
+TEST_CASE("colliders: bad tables, keys and values are errors naming the key", "[cli][colliders]") {
+  const fs::path dir = fresh_dir("colliders_errors");
+  const std::string sphere = "[[colliders]]\nshape = \"sphere\"\ncenter = [1.0, -1.0, 1.0]\nradius = 0.5\n";
+  const std::string box = "[[colliders]]\nshape = \"box\"\ncenter = [1.0, -2.0, 1.0]\nhalf_extents = [1.0, 0.5, 1.0]\n";
+  const std::string capsule = "[[colliders]]\nshape = \"capsule\"\nradius = 0.1\n";
+  const std::string plane = "[[colliders]]\nshape = \"plane\"\n";
+  struct Case {
+    std::string toml;
+    std::vector<std::string> flags;
+    std::vector<std::string> expected;
+  };
+  const Case cases[] = {
+      {sphere + "[[colliders]]\nshape = \"sphere\"\ncenter = [0, -1, 0]\nradius = -0.5\n", {},
+       {"colliders[1].radius = -0.5", "finite and > 0"}},
+      {sphere + "[[colliders]]\nshape = \"cone\"\n", {}, {"colliders[1].shape = 'cone'", "plane | sphere | capsule | box"}},
+      {"[[colliders]]\ncenter = [0, 0, 0]\n", {}, {"key 'colliders[0].shape' is missing"}},
+      {"[[colliders]]\nshape = 3\n", {}, {"key 'colliders[0].shape' must be a string"}},
+      {box + "radius = 2.0\n", {}, {"key 'colliders[0].radius' does not belong to a box", "a sphere's"}},
+      {sphere + "normal = [0, 1, 0]\n", {}, {"key 'colliders[0].normal' does not belong to a sphere", "a plane's"}},
+      {sphere + "rounding = 0.1\n", {}, {"key 'colliders[0].rounding' does not belong to a sphere"}},
+      {sphere + "colour = \"red\"\n", {}, {"unknown key 'colliders[0].colour'", "center, radius"}},
+      {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\nhalf-extents = [1, 1, 1]\n", {},
+       {"unknown key 'colliders[0].half-extents'", "did you mean 'half_extents'"}},
+      {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\n", {},
+       {"key 'colliders[0].half_extents' is missing", "a box needs center, half_extents"}},
+      {"[[colliders]]\nshape = \"sphere\"\nradius = 1.0\n", {}, {"key 'colliders[0].center' is missing"}},
+      {sphere + sphere + "static_friction = \"high\"\n", {}, {"key 'colliders[1].static_friction' must be a number"}},
+      {sphere + "velocity = [1, 2]\n", {}, {"key 'colliders[0].velocity' must be an array of 3 numbers"}},
+      {"[[colliders]]\nshape = \"sphere\"\ncenter = [1, inf, 1]\nradius = 0.5\n", {}, {"colliders[0].center = ", "finite"}},
+      {plane + "point = [0, nan, 0]\nnormal = [0, 1, 0]\n", {}, {"colliders[0].point = ", "finite"}},
+      {plane + "point = [0, -1, 0]\nnormal = [0, 0, 0]\n", {}, {"colliders[0].normal = (0, 0, 0)", "non-zero"}},
+      {capsule + "a = [0, -1, 0]\nb = [0, -1, 0]\n", {}, {"colliders[0].b = a == b", "a != b"}},
+      {capsule + "a = [0, -inf, 0]\nb = [0, -1, 0]\n", {}, {"colliders[0].a = ", "finite"}},
+      {capsule + "a = [0, -1, 0]\nb = [nan, -1, 0]\n", {}, {"colliders[0].b = ", "finite"}},
+      {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\nhalf_extents = [1, 0, 1]\n", {},
+       {"colliders[0].half_extents = 0", "> 0"}},
+      {box + "rounding = 0.6\n", {}, {"colliders[0].rounding = 0.6", "[0, 0.5]"}},
+      {box + "rotation_axis = [0, 0, 0]\n", {}, {"colliders[0].rotation_axis = [0, 0, 0]", "non-zero"}},
+      {box + "rotation_angle = nan\n", {}, {"colliders[0].rotation_angle = nan", "finite"}},
+      {sphere + "static_friction = -0.1\n", {}, {"colliders[0].static_friction = -0.1", ">= 0"}},
+      {sphere + "kinetic_friction = inf\n", {}, {"colliders[0].kinetic_friction = inf", ">= 0"}},
+      {sphere + "velocity = [0, nan, 0]\n", {}, {"colliders[0].velocity = ", "finite"}},
+      {sphere + "angular_velocity = [inf, 0, 0]\n", {}, {"colliders[0].angular_velocity = ", "finite"}},
+      {"colliders = 3\n", {}, {"key 'colliders' must be an array of tables"}},
+      {"colliders = [1]\n", {}, {"key 'colliders[0]' must be a table"}},
+      {"[colliders]\nshape = \"sphere\"\n", {}, {"key 'colliders' must be an array of tables"}},
+      {"contact-thickness = -0.001\n", {}, {"--contact-thickness = -0.001", ">= 0"}},
+      {"contact_thickness = 0.01\n", {}, {"unknown key 'contact_thickness'", "did you mean 'contact-thickness'"}},
+      {"integrator = \"implicit\"\ncontact-rounds = 0\n", {}, {"--contact-rounds = 0", "[1, 32]"}},
+      {"sphere = [1, 2, 3]\n", {}, {"key 'sphere' must be an array of 4 numbers"}},
+      {"sphere = [1, -2, 3, 0]\n", {}, {"--sphere (radius) = 0", "> 0"}},
+      {"", {"--sphere", "0", "-1", "0", "-0.5"}, {"--sphere (radius) = -0.5", "> 0"}},
+      {"", {"--floor-friction", "-1", "--floor-collider"}, {"--floor-friction = -1", ">= 0"}},
+      {"floor-collider = true\nfloor-friction = nan\n", {}, {"--floor-friction = nan", ">= 0"}},
+      {"", {"--floor-height", "inf"}, {"--floor-height = inf", "finite"}},
+      {"floor-height = \"low\"\n", {}, {"key 'floor-height' must be a number"}},
+  };
+  for (const Case& c : cases) {
+    std::string flags;
+    for (const std::string& f : c.flags) flags += f + " ";
+    INFO(c.toml << flags);
+    const std::string message = parse_error(dir, c.toml, c.flags);
+    INFO(message);
+    REQUIRE(!message.empty());
+    if (!c.toml.empty() && message.find("--") != 0) REQUIRE_THAT(message, Catch::Contains("scene.toml"));
+    for (const std::string& e : c.expected) REQUIRE_THAT(message, Catch::Contains(e));
+  }
+  // The same through drape-render: exit code 2 before anything is written.
+  std::ofstream(dir / "scene.toml") << sphere << "[[colliders]]\nshape = \"sphere\"\ncenter = [0, -1, 0]\nradius = -0.5\n";
+  const Result r = run(small + "--scene " + (dir / "scene.toml").string() + " --out " + (dir / "out").string());
+  INFO(r.output);
+  REQUIRE(r.code == 2);
+  REQUIRE_THAT(r.output, Catch::Contains("colliders[1].radius = -0.5"));
+  REQUIRE(!fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("colliders: one touching a pinned node at the start is refused under its key or flag", "[cli][colliders]") {
+  const fs::path dir = fresh_dir("colliders_pins");
+  const std::string away = "[[colliders]]\nshape = \"sphere\"\ncenter = [0.3, -2.0, 0.3]\nradius = 0.5\n";
+  // Node 0 (a pinned corner, at the origin) inside a sphere, 2 mm from a box (thickness 5 mm).
+  struct Case {
+    std::string toml, flags, expected;
+  };
+  const Case cases[] = {
+      {away + "[[colliders]]\nshape = \"sphere\"\ncenter = [0, 0.1, 0]\nradius = 0.3\n", "", "colliders[1]"},
+      {away + "[[colliders]]\nshape = \"box\"\ncenter = [-0.5, 0, 0]\nhalf_extents = [0.498, 0.1, 0.1]\n", "",
+       "colliders[1]"},
+      {away, "--sphere 0 0.1 0 0.3", "--sphere"},
+      {away, "--floor-collider --floor-height 0.001", "--floor-height (of --floor-collider)"},
+      {"[[colliders]]\nshape = \"plane\"\npoint = [0, 0.001, 0]\nnormal = [0, 1, 0]\n", "", "colliders[0]"},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(dir / "scene.toml") << c.toml;
+    const Result r =
+        run(small + "--frames 2 --scene " + (dir / "scene.toml").string() + " " + c.flags + " --out " + (dir / "out").string());
+    INFO(c.toml << c.flags << "\n" << r.output);
+    REQUIRE(r.code == 2);
+    REQUIRE_THAT(r.output, Catch::Contains(c.expected + " = a collider touching pinned node 0"));
+    if (c.expected.rfind("colliders", 0) == 0) REQUIRE_THAT(r.output, Catch::Contains("scene file '"));
+    REQUIRE(!fs::exists(dir / "out"));  // refused before anything was written
+  }
+  // In this process: make_cloth() names it the same way.
+  std::ofstream(dir / "scene.toml") << cases[0].toml;
+  const drape::render::Settings s = parse({"--scene", (dir / "scene.toml").string(), "--nx", "8", "--ny", "8"});
+  REQUIRE_THROWS_WITH(drape::render::make_cloth(s, s.cloth), Catch::Contains("scene.toml': colliders[1] = "));
+  // Clear of the pins by more than the thickness: accepted.
+  std::ofstream(dir / "scene.toml") << away + "[[colliders]]\nshape = \"box\"\ncenter = [-0.5, 0, 0]\n"
+                                               "half_extents = [0.49, 0.1, 0.1]\n";
+  const Result ok = run(small + "--frames 2 --scene " + (dir / "scene.toml").string() + " --out " + (dir / "out").string());
+  INFO(ok.output);
+  REQUIRE(ok.code == 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("--floor-collider: the cloth lands on the floor where it is drawn; the log reports the contact", "[cli][colliders]") {
+  const fs::path dir = fresh_dir("floor");
+  std::ofstream(dir / "free.toml") << "pins = []\n";  // nothing pinned: the cloth falls
+  const std::string common = small + "--scene " + (dir / "free.toml").string() +
+                             " --integrator implicit --dt 0.01 --frame-time 0.05 --frames 21 --floor-collider ";
+  // The floor's height when nothing fixes it: just below the box the fixed camera frames.
+  drape::ClothSpecd spec;
+  spec.nx = spec.ny = 8;
+  spec.pinned_nodes = std::vector<int>{};
+  const drape::Clothd cloth(spec);
+  const double drawn = drape::viewer::frame_bounds(drape::viewer::hanging_bounds(cloth, cloth.grid().rest_positions()),
+                                                   32.0f / 24.0f, 25.0f, 15.0f)
+                           .floor_height;
+  REQUIRE(drawn < -0.01);
+  for (const auto& [flags, floor] : std::vector<std::pair<std::string, double>>{{"", drawn}, {"--floor-height -0.3", -0.3}}) {
+    const fs::path out = dir / (flags.empty() ? "auto" : "fixed");
+    const Result r = run(common + flags + " --out " + out.string() + " --save-state " + (out / "state").string());
+    INFO(flags << "\n" << r.output);
+    REQUIRE(r.code == 0);
+    const drape::State<double> end = drape::load_state<double>((out / "state").string(), 64);
+    const double h = 0.005;  // default contact thickness
+    INFO("floor " << floor << ", lowest node " << end.positions.row(1).minCoeff() << ", highest "
+                  << end.positions.row(1).maxCoeff());
+    REQUIRE(end.positions.row(1).minCoeff() >= floor + 0.99 * h);  // on it, never through it
+    REQUIRE(end.positions.row(1).maxCoeff() <= floor + 1.02 * h);  // the whole cloth lies on it
+    const std::vector<std::vector<double>> rows = csv_rows(out / "log.csv");
+    REQUIRE(rows.size() == 21);
+    const std::vector<double>& last = rows.back();
+    REQUIRE(last.size() == 24);
+    REQUIRE(last[col_contacts] == 64);                              // every node rests on the floor
+    REQUIRE(last[col_normal_y] == Approx(64 * 0.03 * 10).epsilon(1e-3));  // carrying the weight
+    REQUIRE(last[col_corrected] == 0);
+    REQUIRE(last[col_deepest] < 0.01 * h);
+    REQUIRE(last[col_pin_y] == 0);  // nothing pinned
+  }
+  // With pins, the reaction: at the start (undeformed) the pinned corners' own weight.
+  const Result pinned = run(small + "--frames 2 --out " + (dir / "pinned").string());
+  REQUIRE(pinned.code == 0);
+  REQUIRE(csv_rows(dir / "pinned" / "log.csv")[0][col_pin_y] == Approx(2 * 0.03 * 10));
+  REQUIRE(csv_rows(dir / "pinned" / "log.csv")[1][col_contacts] == 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("colliders are drawn at their pose at the frame's time", "[cli][colliders]") {
+  const fs::path dir = fresh_dir("colliders_drawn");
+  // No gravity: the cloth stays put, so only a collider can change the image.
+  const std::string common = "--nx 8 --ny 8 --width 96 --height 72 --samples 1 --quiet --no-csv --gravity 0 "
+                             "--camera fixed --frames 3 --frame-time 0.2 --dt 0.01 ";
+  const std::string sphere = "[[colliders]]\nshape = \"sphere\"\ncenter = [1.2, -0.3, 0.35]\nradius = 0.3\n";
+  std::ofstream(dir / "still.toml") << sphere;
+  std::ofstream(dir / "moving.toml") << sphere << "velocity = [0.0, 0.0, -1.0]\n";
+  const auto frames = [&](const std::string& args, const std::string& name) {
+    const Result r = run(common + args + " --out " + (dir / name).string());
+    INFO(args << "\n" << r.output);
+    REQUIRE(r.code == 0);
+    std::vector<drape::viewer::Image> images;
+    for (int k = 0; k < 3; ++k) {
+      char file[32];
+      std::snprintf(file, sizeof file, "frame_%05d.png", k);
+      images.push_back(drape::viewer::read_png((dir / name / file).string()));
+    }
+    return images;
+  };
+  const auto none = frames("", "none");
+  const auto still = frames("--scene " + (dir / "still.toml").string(), "still");
+  const auto moving = frames("--scene " + (dir / "moving.toml").string(), "moving");
+  REQUIRE(none[0].rgb == none[2].rgb);    // nothing moves
+  REQUIRE(still[0].rgb == still[2].rgb);  // a static collider stays
+  REQUIRE(still[0].rgb != none[0].rgb);   // and is drawn
+  REQUIRE(moving[0].rgb == still[0].rgb);  // the same at t = 0 (the camera frames its whole path)
+  REQUIRE(moving[2].rgb != moving[0].rgb);  // then it has moved
+  // The same with the follow camera, which frames the colliders with the cloth.
+  const auto follow = frames("--camera follow --scene " + (dir / "moving.toml").string(), "follow");
+  REQUIRE(follow[2].rgb != follow[0].rgb);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("scenes/drop_on_sphere.toml and scenes/tablecloth.toml run their whole length, the cloth outside the colliders",
+          "[cli][colliders]") {
+  for (const char* name : {"drop_on_sphere", "tablecloth"}) {
+    INFO(name);
+    const fs::path scene = scenes_dir / (std::string(name) + ".toml");
+    REQUIRE(fs::exists(scene));
+    const fs::path dir = fresh_dir(name);
+    const Result r = run("--scene " + scene.string() + " --width 32 --height 24 --samples 1 --out " +
+                         (dir / "out").string() + " --save-state " + (dir / "state").string());
+    INFO(r.output);
+    REQUIRE(r.code == 0);  // a failed step would exit with 3
+    REQUIRE_THAT(r.output, Catch::Contains("121 frames") && Catch::Contains("implicit") && Catch::Contains("2 colliders"));
+    // Every node ends outside every collider by the contact thickness (to the end-of-step
+    // tolerance), and the end-of-step check never had to push one out.
+    const drape::render::Settings s = parse({"--scene", scene.string()});
+    std::vector<drape::Colliderd> colliders = s.cloth.colliders;
+    colliders.push_back(drape::render::floor_collider(s, *drape::render::fixed_floor_height(s)));
+    const drape::State<double> end = drape::load_state<double>((dir / "state").string(), s.cloth.nx * s.cloth.ny);
+    double closest = 1e9;
+    for (const drape::Colliderd& c : colliders)
+      for (drape::Index i = 0; i < end.positions.cols(); ++i)
+        closest = std::min(closest, c.query(end.positions.col(i), end.time).distance);
+    INFO("closest node " << closest);
+    REQUIRE(closest >= 0.99 * s.cloth.contact_thickness);
+    const std::vector<std::vector<double>> rows = csv_rows(dir / "out" / "log.csv");
+    REQUIRE(rows.size() == 121);
+    double corrected = 0;
+    for (const auto& row : rows) corrected += row[col_corrected];
+    REQUIRE(corrected == 0);
+    REQUIRE(rows.back()[col_contacts] > 100);  // it rests on them
+    fs::remove_all(dir);
+  }
 }

@@ -17,6 +17,7 @@
 #include "drape/io/atomic_file.hpp"
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
+#include "drape/viewer/collider_mesh.hpp"
 #include "drape/viewer/offscreen_context.hpp"
 #include "drape/viewer/png.hpp"
 
@@ -228,4 +229,99 @@ TEST_CASE("the follow camera keeps every node of a falling cloth inside the imag
       REQUIRE(checked == 45 * 144);
     }
   }
+}
+
+TEST_CASE("collider meshes: every vertex on the surface, faces outward, placed by the pose at t", "[viewer][colliders]") {
+  using C = drape::Collider<double>;
+  const drape::Mat3<double> tilt = Eigen::AngleAxisd(0.4, drape::Vec3<double>(1, 2, 3).normalized()).toRotationMatrix();
+  struct Case {
+    const char* name;
+    C collider;
+  };
+  const Case cases[] = {
+      {"sphere", C::sphere({1, 2, 3}, 0.7)},
+      {"capsule", C::capsule({0, 0, 0}, {1, 1, 0}, 0.2)},
+      {"box", C::box({0, -1, 0}, {0.5, 0.3, 0.8}, tilt)},
+      {"rounded box", C::box({0, -1, 0}, {0.5, 0.3, 0.8}, tilt, 0.1)},
+      {"fully rounded box", C::box({0, 0, 0}, {0.3, 0.3, 0.6}, drape::Mat3<double>::Identity(), 0.3)},
+      {"moving sphere", C::sphere({1, 2, 3}, 0.5).moving({1, 0, -2}, {0, 3, 0})},
+      {"spinning box", C::box({0, 1, 0}, {0.4, 0.2, 0.3}, tilt, 0.05).moving({0, 0, 0}, {1, 2, 0.5})},
+  };
+  for (const Case& c : cases) {
+    INFO(c.name);
+    const std::vector<Eigen::Vector3f> local = local_collider_mesh(c.collider);
+    REQUIRE(local.size() >= 36);  // a plain box: 2 triangles per face
+    REQUIRE(local.size() % 3 == 0);
+    for (double t : {0.0, 0.7}) {
+      const SolidMesh mesh = place_mesh(local, c.collider.motion().pose(t));
+      REQUIRE(mesh.vertices.size() == local.size() * 6);
+      double worst = 0, least_alignment = 1;
+      for (std::size_t k = 0; k < mesh.vertices.size(); k += 18) {  // one triangle
+        drape::Vec3<double> centroid = drape::Vec3<double>::Zero();
+        for (int v = 0; v < 3; ++v) {
+          const drape::Vec3<double> p(mesh.vertices[k + 6 * v], mesh.vertices[k + 6 * v + 1], mesh.vertices[k + 6 * v + 2]);
+          worst = std::max(worst, std::abs(c.collider.query(p, t).distance));
+          centroid += p / 3;
+        }
+        const drape::Vec3<double> n(mesh.vertices[k + 3], mesh.vertices[k + 4], mesh.vertices[k + 5]);
+        least_alignment = std::min(least_alignment, n.dot(c.collider.query(centroid, t).normal));
+      }
+      INFO("t = " << t << ", largest |distance| of a vertex " << worst << ", least n . normal " << least_alignment);
+      REQUIRE(worst < 1e-5);              // on the surface (float precision)
+      REQUIRE(least_alignment > 0.95);    // flat faces, outward
+    }
+  }
+  REQUIRE(local_collider_mesh(C::plane({0, 0, 0}, {0, 1, 0})).empty());
+  // A plane: a square on the plane around the point given, facing along the normal.
+  const C slope = C::plane({0, -1, 0}, {1, 1, 0});
+  const SolidMesh quad = plane_quad(slope, 0.0, Eigen::Vector3f(2, 3, 4), 5.0f);
+  REQUIRE(!quad.casts_shadow);
+  REQUIRE(quad.vertices.size() == 36);
+  for (std::size_t k = 0; k < 36; k += 6) {
+    const drape::Vec3<double> p(quad.vertices[k], quad.vertices[k + 1], quad.vertices[k + 2]);
+    REQUIRE(std::abs(slope.query(p, 0.0).distance) < 1e-5);
+    REQUIRE(quad.vertices[k + 3] == Approx(std::sqrt(0.5)).margin(1e-6));
+  }
+}
+
+TEST_CASE("solids are drawn in their own colour, over the cloth where they are in front", "[viewer][colliders]") {
+  OffscreenContext context;
+  const drape::Cloth<double> cloth(small_cloth());
+  const RenderSettings rs = plain_settings();
+  ClothRenderer renderer(cloth.grid().nx(), cloth.grid().ny(), cloth.grid().triangles(), rs);
+  const drape::Matrix3X<double> x = cloth.grid().rest_positions();
+  Bounds b;
+  for (drape::Index i = 0; i < x.cols(); ++i) b.extend(x.col(i).cast<float>());
+  renderer.set_camera(frame_bounds(b, float(width) / float(height), 30.0f, 40.0f));
+  renderer.update_positions(x);
+  const Image without = renderer.render();
+  // A box standing on the middle of the cloth, in front of it from every direction above.
+  const drape::Collider<double> box = drape::Collider<double>::box(b.centre().cast<double>() + drape::Vec3<double>(0, 0.15, 0),
+                                                                    {0.15, 0.15, 0.15});
+  renderer.set_solids({place_mesh(local_collider_mesh(box), box.motion().pose(0.0))});
+  const Image with = renderer.render();
+  const std::uint8_t* centre = with.pixel(width / 2, height / 2);
+  const std::uint8_t* cloth_centre = without.pixel(width / 2, height / 2);
+  INFO("with the box " << int(centre[0]) << " " << int(centre[1]) << " " << int(centre[2]) << ", without "
+                       << int(cloth_centre[0]) << " " << int(cloth_centre[1]) << " " << int(cloth_centre[2]));
+  REQUIRE(cloth_centre[0] > cloth_centre[2] + 40);  // the red cloth
+  REQUIRE(std::abs(centre[0] - centre[2]) < 20);    // a grey box
+  REQUIRE(std::abs(centre[1] - centre[2]) < 20);
+  int grey = 0, shades = 0;
+  std::set<int> seen;
+  for (int yy = 0; yy < height; ++yy)
+    for (int xx = 0; xx < width; ++xx) {
+      const std::uint8_t* p = with.pixel(xx, yy);
+      if (std::abs(p[0] - p[2]) < 20 && std::abs(p[1] - p[2]) < 20 && p[0] < 220) {
+        ++grey;
+        seen.insert(p[0] / 8);
+      }
+    }
+  shades = int(seen.size());
+  REQUIRE(grey > 100);
+  REQUIRE(shades >= 2);  // lit faces in different shades
+  // No solids again: the image without them.
+  renderer.set_solids({});
+  const Image again = renderer.render();
+  REQUIRE(again.rgb == without.rgb);
 }

@@ -41,10 +41,13 @@ namespace drape {
 /// What the contacts did in the last step.
 template <class Scalar>
 struct ContactReport {
-  int contacts = 0;    ///< nodes in contact (normal impulse > 0 or held by a constraint)
-  int sticking = 0;    ///< of which friction held still
-  int sliding = 0;     ///< of which slid
-  int corrected = 0;   ///< nodes the end-of-step check had to push out
+  int contacts = 0;   ///< nodes in contact (normal impulse > 0 or held by a constraint)
+  int sticking = 0;   ///< of which friction held still
+  int sliding = 0;    ///< of which slid
+  int corrected = 0;  ///< nodes the end-of-step check had to push out
+  /// Contacts resolved by an impulse after the solve instead of as constraints of it: all of them
+  /// in RK2; in the implicit step only those the contact rounds ran out before.
+  int after_solve = 0;
   int rounds = 0;      ///< implicit step: linear solves (1 without contact changes); RK2: 0
   Scalar deepest = 0;  ///< deepest penetration h - d at the end of the step, before the check (m, >= 0)
   Vec3<Scalar> normal_force = Vec3<Scalar>::Zero();    ///< total normal force on the cloth (N)
@@ -168,6 +171,7 @@ void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstR
     if (row < 0 || c.kind(row) == ConstraintKind::Fixed) continue;  // pinned
     Contact contact;
     if (!sweep(node, x.col(i), x.col(i) + dt * v.col(i), t, dt, h + margin, contact)) continue;
+    if (contact.normal.dot(v.col(i)) * dt >= contact.target * dt + margin) continue;  // clearly leaving
     contact.row = row;
     add(contact, &c, v);
   }
@@ -209,6 +213,7 @@ bool ContactHandler<Scalar>::revise(const LinearSystem<Scalar>& system, const Ve
     const Vec3<Scalar> v_new = v.col(i) + dv.template segment<3>(3 * row);
     Contact contact;
     if (!sweep(node, x.col(i), x.col(i) + dt * v_new, t, dt, h, contact)) continue;
+    if (contact.normal.dot(v_new) >= contact.target) continue;  // touches but leaves by itself
     contact.row = row;
     add(contact, &c, v);
     changed = true;
@@ -263,6 +268,7 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
       if (!sweep(node, x.col(i), x_new.col(i), t, dt, h, contact)) continue;
       if (contact.normal.dot(v_new.col(i)) >= contact.target) continue;  // leaves the surface by itself
       add(contact, nullptr, v);
+      ++m_report.after_solve;
       slot = m_slot[static_cast<std::size_t>(node)];
     }
     Contact& contact = m_contacts[static_cast<std::size_t>(slot)];
