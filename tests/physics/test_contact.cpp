@@ -169,6 +169,29 @@ TEST_CASE("contact: a cloth on the floor thrown upward leaves it (contacts never
   }
 }
 
+TEST_CASE("contact: nodes the solve sends into a collider become constraints and are solved again",
+          "[contact][rounds]") {
+  // At rest 1 cm above the floor: the velocity at the start predicts no contact, but one step of
+  // 0.1 s falls 0.1 m, so the first solve reaches the floor and the step is solved again with
+  // those contacts as constraints.
+  ClothSpecd spec = free_cloth<double>(7);
+  spec.colliders.push_back(Colliderd::plane(Vec3<double>::Zero(), Vec3<double>(0, 1, 0)));
+  const Clothd cloth(spec);
+  ImplicitOptions options;
+  options.dt = 0.1;
+  options.threads = 1;
+  ImplicitEulerd implicit(cloth, options);
+  Stated state = cloth.initial_state();
+  state.positions.row(1).setConstant(cloth.contact_thickness() + 0.01);
+  REQUIRE(implicit.step(state).ok());
+  const ContactReport<double>& report = implicit.contact_report();
+  CHECK(report.rounds == 2);
+  CHECK(report.contacts == cloth.node_count());
+  CHECK(report.after_solve == 0);
+  CHECK(report.corrected == 0);
+  CHECK((state.positions.row(1).array() - cloth.contact_thickness()).abs().maxCoeff() <= 1e-9);
+}
+
 TEST_CASE("contact: a cloth thrown at a thin box never passes through it", "[contact][tunnelling]") {
   for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
     INFO(to_string(kind));
