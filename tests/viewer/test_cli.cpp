@@ -198,8 +198,8 @@ TEST_CASE("a render writes complete frames, OBJ files and one CSV row per frame"
   // The same columns for every run (docs/viewer.md), the contact, pin and air ones at the end.
   REQUIRE(csv.substr(0, csv.find('\n')) ==
           "frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,spring_energy,gravity_energy,"
-          "total_energy,max_strain,solver_iterations,max_residual,contacts,sticking,sliding,corrected,contact_rounds,"
-          "deepest_penetration,normal_force,normal_force_y,friction_force,pin_reaction_y,air_power");
+          "total_energy,max_strain,solver_iterations,max_residual,contacts,sticking,sliding,corrected,after_solve,"
+          "contact_rounds,deepest_penetration,normal_force,normal_force_y,friction_force,pin_reaction_y,air_power");
   REQUIRE(std::count(csv.begin(), csv.end(), '\n') == 5);
   fs::remove_all(dir);
 }
@@ -273,7 +273,7 @@ TEST_CASE("real-time mode paces the run and logs steps and dropped time per fram
     std::string field;
     std::vector<double> v;
     while (std::getline(ls, field, ',')) v.push_back(std::stod(field));
-    REQUIRE(v.size() == 24);
+    REQUIRE(v.size() == 25);
     REQUIRE(v[3] <= 5);   // steps within the cap
     REQUIRE(v[4] >= 0);   // dropped time
   }
@@ -505,7 +505,8 @@ drape::render::Settings parse(std::vector<std::string> args) {
   argv.push_back(nullptr);
   drape::render::Settings s;
   int exit_code = 0;
-  REQUIRE(drape::render::parse_settings(int(args.size()), argv.data(), s, exit_code));
+  const bool run_it = drape::render::parse_settings(int(args.size()), argv.data(), s, exit_code);
+  REQUIRE(run_it);
   return s;
 }
 
@@ -523,6 +524,8 @@ std::string parse_error(const fs::path& dir, const std::string& toml, std::vecto
 double distance(const drape::Colliderd& c, double x, double y, double z, double t = 0) {
   return c.query(drape::Vec3<double>(x, y, z), t).distance;
 }
+
+bool same(const drape::viewer::Image& a, const drape::viewer::Image& b) { return a.rgb == b.rgb; }
 
 const fs::path scenes_dir = fs::path(__FILE__).parent_path().parent_path().parent_path() / "scenes";
 
@@ -542,7 +545,8 @@ std::vector<std::vector<double>> csv_rows(const fs::path& file) {
 }
 
 // Columns of log.csv.
-constexpr int col_contacts = 13, col_corrected = 16, col_deepest = 18, col_normal_y = 20, col_pin_y = 22;
+constexpr int col_contacts = 13, col_corrected = 16, col_after_solve = 17, col_deepest = 19, col_normal_y = 21,
+              col_pin_y = 23;
 
 }  // namespace
 
@@ -694,21 +698,21 @@ TEST_CASE("colliders: bad tables, keys and values are errors naming the key", "[
       {"[[colliders]]\nshape = \"sphere\"\nradius = 1.0\n", {}, {"key 'colliders[0].center' is missing"}},
       {sphere + sphere + "static_friction = \"high\"\n", {}, {"key 'colliders[1].static_friction' must be a number"}},
       {sphere + "velocity = [1, 2]\n", {}, {"key 'colliders[0].velocity' must be an array of 3 numbers"}},
-      {"[[colliders]]\nshape = \"sphere\"\ncenter = [1, inf, 1]\nradius = 0.5\n", {}, {"colliders[0].center = ", "finite"}},
-      {plane + "point = [0, nan, 0]\nnormal = [0, 1, 0]\n", {}, {"colliders[0].point = ", "finite"}},
-      {plane + "point = [0, -1, 0]\nnormal = [0, 0, 0]\n", {}, {"colliders[0].normal = (0, 0, 0)", "non-zero"}},
+      {"[[colliders]]\nshape = \"sphere\"\ncenter = [1, inf, 1]\nradius = 0.5\n", {}, {"colliders[0].center = [1, inf, 1]", "finite"}},
+      {plane + "point = [0, nan, 0]\nnormal = [0, 1, 0]\n", {}, {"colliders[0].point = [0, nan, 0]", "finite"}},
+      {plane + "point = [0, -1, 0]\nnormal = [0, 0, 0]\n", {}, {"colliders[0].normal = [0, 0, 0]", "non-zero"}},
       {capsule + "a = [0, -1, 0]\nb = [0, -1, 0]\n", {}, {"colliders[0].b = a == b", "a != b"}},
-      {capsule + "a = [0, -inf, 0]\nb = [0, -1, 0]\n", {}, {"colliders[0].a = ", "finite"}},
-      {capsule + "a = [0, -1, 0]\nb = [nan, -1, 0]\n", {}, {"colliders[0].b = ", "finite"}},
+      {capsule + "a = [0, -inf, 0]\nb = [0, -1, 0]\n", {}, {"colliders[0].a = [0, -inf, 0]", "finite"}},
+      {capsule + "a = [0, -1, 0]\nb = [nan, -1, 0]\n", {}, {"colliders[0].b = [nan, -1, 0]", "finite"}},
       {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\nhalf_extents = [1, 0, 1]\n", {},
-       {"colliders[0].half_extents = 0", "> 0"}},
+       {"colliders[0].half_extents = [1, 0, 1]", "> 0"}},
       {box + "rounding = 0.6\n", {}, {"colliders[0].rounding = 0.6", "[0, 0.5]"}},
       {box + "rotation_axis = [0, 0, 0]\n", {}, {"colliders[0].rotation_axis = [0, 0, 0]", "non-zero"}},
       {box + "rotation_angle = nan\n", {}, {"colliders[0].rotation_angle = nan", "finite"}},
       {sphere + "static_friction = -0.1\n", {}, {"colliders[0].static_friction = -0.1", ">= 0"}},
       {sphere + "kinetic_friction = inf\n", {}, {"colliders[0].kinetic_friction = inf", ">= 0"}},
-      {sphere + "velocity = [0, nan, 0]\n", {}, {"colliders[0].velocity = ", "finite"}},
-      {sphere + "angular_velocity = [inf, 0, 0]\n", {}, {"colliders[0].angular_velocity = ", "finite"}},
+      {sphere + "velocity = [0, nan, 0]\n", {}, {"colliders[0].velocity = [0, nan, 0]", "finite"}},
+      {sphere + "angular_velocity = [inf, 0, 0]\n", {}, {"colliders[0].angular_velocity = [inf, 0, 0]", "finite"}},
       {"colliders = 3\n", {}, {"key 'colliders' must be an array of tables"}},
       {"colliders = [1]\n", {}, {"key 'colliders[0]' must be a table"}},
       {"[colliders]\nshape = \"sphere\"\n", {}, {"key 'colliders' must be an array of tables"}},
@@ -809,10 +813,11 @@ TEST_CASE("--floor-collider: the cloth lands on the floor where it is drawn; the
     const std::vector<std::vector<double>> rows = csv_rows(out / "log.csv");
     REQUIRE(rows.size() == 21);
     const std::vector<double>& last = rows.back();
-    REQUIRE(last.size() == 24);
+    REQUIRE(last.size() == 25);
     REQUIRE(last[col_contacts] == 64);                              // every node rests on the floor
     REQUIRE(last[col_normal_y] == Approx(64 * 0.03 * 10).epsilon(1e-3));  // carrying the weight
     REQUIRE(last[col_corrected] == 0);
+    REQUIRE(last[col_after_solve] == 0);  // constraints of the solve
     REQUIRE(last[col_deepest] < 0.01 * h);
     REQUIRE(last[col_pin_y] == 0);  // nothing pinned
   }
@@ -828,12 +833,19 @@ TEST_CASE("colliders are drawn at their pose at the frame's time", "[cli][collid
   const fs::path dir = fresh_dir("colliders_drawn");
   // No gravity: the cloth stays put, so only a collider can change the image.
   const std::string common = "--nx 8 --ny 8 --width 96 --height 72 --samples 1 --quiet --no-csv --gravity 0 "
-                             "--camera fixed --frames 3 --frame-time 0.2 --dt 0.01 ";
-  const std::string sphere = "[[colliders]]\nshape = \"sphere\"\ncenter = [1.2, -0.3, 0.35]\nradius = 0.3\n";
-  std::ofstream(dir / "still.toml") << sphere;
-  std::ofstream(dir / "moving.toml") << sphere << "velocity = [0.0, 0.0, -1.0]\n";
-  const auto frames = [&](const std::string& args, const std::string& name) {
-    const Result r = run(common + args + " --out " + (dir / name).string());
+                             "--frames 3 --frame-time 0.2 --integrator implicit --dt 0.01 ";
+  // Two specks fix the box the fixed camera frames, whatever the third sphere does.
+  const std::string specks = "[[colliders]]\nshape = \"sphere\"\ncenter = [-1.5, -1.5, -1.5]\nradius = 0.01\n"
+                             "[[colliders]]\nshape = \"sphere\"\ncenter = [2.5, 1.0, 2.5]\nradius = 0.01\n";
+  const auto sphere = [](const char* z) {
+    return std::string("[[colliders]]\nshape = \"sphere\"\ncenter = [1.2, -0.3, ") + z + "]\nradius = 0.3\n";
+  };
+  std::ofstream(dir / "specks.toml") << specks;
+  std::ofstream(dir / "still.toml") << specks << sphere("0.35");
+  std::ofstream(dir / "later.toml") << specks << sphere("-0.05");  // where the moving one is at t = 0.4 s
+  std::ofstream(dir / "moving.toml") << specks << sphere("0.35") << "velocity = [0.0, 0.0, -1.0]\n";
+  const auto frames = [&](const std::string& args, const std::string& name, const char* camera = "fixed") {
+    const Result r = run(common + args + " --camera " + camera + " --out " + (dir / name).string());
     INFO(args << "\n" << r.output);
     REQUIRE(r.code == 0);
     std::vector<drape::viewer::Image> images;
@@ -844,17 +856,34 @@ TEST_CASE("colliders are drawn at their pose at the frame's time", "[cli][collid
     }
     return images;
   };
-  const auto none = frames("", "none");
+  const auto none = frames("--scene " + (dir / "specks.toml").string(), "none");
   const auto still = frames("--scene " + (dir / "still.toml").string(), "still");
+  const auto later = frames("--scene " + (dir / "later.toml").string(), "later");
   const auto moving = frames("--scene " + (dir / "moving.toml").string(), "moving");
-  REQUIRE(none[0].rgb == none[2].rgb);    // nothing moves
-  REQUIRE(still[0].rgb == still[2].rgb);  // a static collider stays
-  REQUIRE(still[0].rgb != none[0].rgb);   // and is drawn
-  REQUIRE(moving[0].rgb == still[0].rgb);  // the same at t = 0 (the camera frames its whole path)
-  REQUIRE(moving[2].rgb != moving[0].rgb);  // then it has moved
-  // The same with the follow camera, which frames the colliders with the cloth.
-  const auto follow = frames("--camera follow --scene " + (dir / "moving.toml").string(), "follow");
-  REQUIRE(follow[2].rgb != follow[0].rgb);
+  REQUIRE(same(none[0], none[2]));        // nothing moves
+  REQUIRE(same(still[0], still[2]));      // a static collider stays
+  REQUIRE(!same(still[0], none[0]));      // and is drawn
+  REQUIRE(same(moving[0], still[0]));     // the moving one at t = 0
+  REQUIRE(same(moving[2], later[2]));     // and at t = 0.4 s (frame 2)
+  REQUIRE(!same(moving[2], moving[0]));
+  // Both cameras keep a collider in view that moves far from the cloth (4 m in 0.4 s): the fixed
+  // one frames its whole path, the follow one where it is.
+  std::ofstream(dir / "fast.toml") << sphere("0.35") << "velocity = [0.0, 0.0, -10.0]\n";
+  const auto grey_pixels = [](const drape::viewer::Image& image) {  // the collider's colour, lit
+    int n = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) {
+        const std::uint8_t* p = image.pixel(x, y);
+        n += std::abs(p[0] - p[1]) < 12 && std::abs(p[1] - p[2]) < 12 && p[0] < 220;
+      }
+    return n;
+  };
+  for (const char* camera : {"fixed", "follow"}) {
+    INFO(camera);
+    const auto fast = frames("--no-floor --scene " + (dir / "fast.toml").string(), camera, camera);
+    REQUIRE(grey_pixels(fast[0]) > 10);
+    REQUIRE(grey_pixels(fast[2]) > 10);
+  }
   fs::remove_all(dir);
 }
 

@@ -323,5 +323,33 @@ TEST_CASE("solids are drawn in their own colour, over the cloth where they are i
   // No solids again: the image without them.
   renderer.set_solids({});
   const Image again = renderer.render();
-  REQUIRE(again.rgb == without.rgb);
+  const bool same = again.rgb == without.rgb;
+  REQUIRE(same);
+}
+
+TEST_CASE("a solid casts its shadow on the floor unless told not to", "[viewer][colliders]") {
+  OffscreenContext context;
+  const drape::Cloth<double> cloth(small_cloth());
+  RenderSettings rs = plain_settings();
+  rs.floor = true;
+  ClothRenderer renderer(cloth.grid().nx(), cloth.grid().ny(), cloth.grid().triangles(), rs);
+  // The cloth far off to the side; a sphere floating above the floor in the middle of the view.
+  drape::Matrix3X<double> x = cloth.grid().rest_positions();
+  x.row(0).array() += 50.0;
+  renderer.update_positions(x);
+  Bounds b;
+  b.extend(Eigen::Vector3f(-1, -1, -1));
+  b.extend(Eigen::Vector3f(1, 1, 1));
+  renderer.set_camera(frame_bounds(b, float(width) / float(height), 30.0f, 50.0f));
+  const drape::Collider<double> ball = drape::Collider<double>::sphere({0, 0.3, 0}, 0.4);
+  SolidMesh mesh = place_mesh(local_collider_mesh(ball), ball.motion().pose(0.0));
+  renderer.set_solids({mesh});
+  const Image shadowed = renderer.render();
+  mesh.casts_shadow = false;
+  renderer.set_solids({mesh});
+  const Image plain = renderer.render();
+  int darker = 0;
+  for (std::size_t k = 0; k < plain.rgb.size(); ++k) darker += shadowed.rgb[k] + 20 < plain.rgb[k];
+  INFO(darker << " darker channels");
+  REQUIRE(darker > 30);
 }

@@ -130,9 +130,22 @@ class Collider {
   Scalar static_friction() const { return m_static_friction; }
   Scalar kinetic_friction() const { return m_kinetic_friction; }
   const RigidMotion<Scalar>& motion() const { return m_motion; }
+  /// Radius of a ball about the local origin that holds the shape (infinite for a plane): the
+  /// contact search skips points farther than this from the collider (broad phase).
+  Scalar bounding_radius() const {
+    switch (m_kind) {
+      case ShapeKind::Plane: return std::numeric_limits<Scalar>::infinity();
+      case ShapeKind::Sphere: return m_radius;
+      case ShapeKind::Capsule: return m_half_length + m_radius;
+      case ShapeKind::Box: return m_half_extents.norm();
+    }
+    return std::numeric_limits<Scalar>::infinity();
+  }
 
   /// Signed distance, outward normal and surface velocity at world point x at time t.
-  ColliderContact<Scalar> query(const Vec3<Scalar>& x, Scalar t) const;
+  ColliderContact<Scalar> query(const Vec3<Scalar>& x, Scalar t) const { return query(x, m_motion.pose(t)); }
+  /// query() with the collider's pose at that time given (a caller that queries many points).
+  ColliderContact<Scalar> query(const Vec3<Scalar>& x, const RigidPose<Scalar>& pose) const;
   /// Swept test of a point going from x0 at t0 to x1 at t1 along a straight line in the collider's
   /// frame (between pose(t0).to_local(x0) and pose(t1).to_local(x1)) against the surface moved out
   /// by `offset` >= 0: the first s in [0, 1] with distance <= offset (0 if the path starts there),
@@ -142,7 +155,12 @@ class Collider {
   /// a tangent that misses proves a miss. Tolerance max(1e-6, 16 eps) (1 + offset) m.
   /// No sampling: a fast point cannot skip a thin box. After 100 steps (a pathological path) the s
   /// reached, before which the path stays outside the offset surface, is returned.
-  Scalar first_contact(const Vec3<Scalar>& x0, Scalar t0, const Vec3<Scalar>& x1, Scalar t1, Scalar offset) const;
+  Scalar first_contact(const Vec3<Scalar>& x0, Scalar t0, const Vec3<Scalar>& x1, Scalar t1, Scalar offset) const {
+    return first_contact(x0, m_motion.pose(t0), x1, m_motion.pose(t1), offset);
+  }
+  /// first_contact() with the collider's poses at t0 and t1 given.
+  Scalar first_contact(const Vec3<Scalar>& x0, const RigidPose<Scalar>& pose0, const Vec3<Scalar>& x1,
+                       const RigidPose<Scalar>& pose1, Scalar offset) const;
 
  private:
   struct LocalDistance {
@@ -322,18 +340,17 @@ typename Collider<Scalar>::LocalDistance Collider<Scalar>::local_distance(const 
 }
 
 template <class Scalar>
-ColliderContact<Scalar> Collider<Scalar>::query(const Vec3<Scalar>& x, Scalar t) const {
-  const RigidPose<Scalar> pose = m_motion.pose(t);
+ColliderContact<Scalar> Collider<Scalar>::query(const Vec3<Scalar>& x, const RigidPose<Scalar>& pose) const {
   const LocalDistance local = local_distance(pose.to_local(x));
   return {local.distance, pose.rotation * local.normal, pose.point_velocity(x)};
 }
 
 template <class Scalar>
-Scalar Collider<Scalar>::first_contact(const Vec3<Scalar>& x0, Scalar t0, const Vec3<Scalar>& x1, Scalar t1,
-                                       Scalar offset) const {
+Scalar Collider<Scalar>::first_contact(const Vec3<Scalar>& x0, const RigidPose<Scalar>& pose0, const Vec3<Scalar>& x1,
+                                       const RigidPose<Scalar>& pose1, Scalar offset) const {
   DRAPE_ASSERT(offset >= 0, "first_contact: offset must be >= 0");
-  const Vec3<Scalar> p0 = m_motion.pose(t0).to_local(x0);
-  const Vec3<Scalar> path = m_motion.pose(t1).to_local(x1) - p0;
+  const Vec3<Scalar> p0 = pose0.to_local(x0);
+  const Vec3<Scalar> path = pose1.to_local(x1) - p0;
   const Scalar tolerance = std::max(Scalar(1e-6), 16 * std::numeric_limits<Scalar>::epsilon()) * (1 + offset);
   Scalar s = 0;
   for (int step = 0; step < 100; ++step) {

@@ -95,6 +95,28 @@ class ContactHandler {
     Scalar impulse;  // normal impulse of the step (N s)
   };
 
+  /// What the broad phase knows of a collider during the step, and its poses.
+  struct Bounds {
+    RigidPose<Scalar> start, end;           // the collider's poses at t and t + dt
+    bool plane;                             // a plane: the half-space test below; otherwise the ball
+    Vec3<Scalar> normal_start, normal_end;  // plane: its normal at t and t + dt
+    Scalar level_start, level_end;          // plane: n . x on its surface at t and t + dt
+    Vec3<Scalar> middle;                    // ball: its centre halfway through the step
+    Scalar reach;                           // ball: the shape's bounding radius plus half the centre's displacement
+  };
+  /// The colliders' bounds for the step from t to t + dt (once per step).
+  void bound(Scalar t, Scalar dt);
+  /// False if the path x0 -> x1 (midpoint `middle`, half length `half_travel`) cannot come within
+  /// `offset` of collider k. Both move linearly: for a ball their distance is at least the
+  /// midpoints' distance minus half of both displacements; for a plane the distance is linear
+  /// along the path, so the nearer end decides.
+  bool may_reach(std::size_t k, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, const Vec3<Scalar>& middle,
+                 Scalar half_travel, Scalar offset) const {
+    const Bounds& b = m_bounds[k];
+    if (b.plane) return std::min(b.normal_start.dot(x0) - b.level_start, b.normal_end.dot(x1) - b.level_end) <= offset;
+    const Scalar reach = b.reach + offset + half_travel;
+    return (middle - b.middle).squaredNorm() <= reach * reach;
+  }
   /// The first collider the path x0 (t) -> x1 (t + dt) reaches within `offset`, as a contact
   /// taken at the start; false if none.
   bool sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar t, Scalar dt, Scalar offset,
@@ -108,6 +130,7 @@ class ContactHandler {
   std::vector<Contact> m_contacts;  // this step's
   std::vector<Contact> m_kept;      // scratch of revise()
   std::vector<int> m_slot;          // per node: index into m_contacts, -1 if none
+  std::vector<Bounds> m_bounds;     // per collider, this step's
   ContactReport<Scalar> m_report;
   bool m_constrained = false;  // constrain() began this step
 };
@@ -115,20 +138,43 @@ class ContactHandler {
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
+void ContactHandler<Scalar>::bound(Scalar t, Scalar dt) {
+  const auto& colliders = m_cloth->colliders();
+  m_bounds.resize(colliders.size());
+  for (std::size_t k = 0; k < colliders.size(); ++k) {
+    const RigidMotion<Scalar>& motion = colliders[k].motion();
+    Bounds& b = m_bounds[k];
+    b.start = motion.pose(t);
+    b.end = motion.pose(t + dt);
+    b.plane = colliders[k].kind() == ShapeKind::Plane;
+    b.normal_start = b.start.rotation.col(1);  // a plane's local +y
+    b.normal_end = b.end.rotation.col(1);
+    b.level_start = b.normal_start.dot(b.start.translation);
+    b.level_end = b.normal_end.dot(b.end.translation);
+    b.middle = Scalar(0.5) * (b.start.translation + b.end.translation);
+    b.reach = colliders[k].bounding_radius() + Scalar(0.5) * (b.end.translation - b.start.translation).norm();
+  }
+}
+
+template <class Scalar>
 bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar t, Scalar dt,
                                    Scalar offset, Contact& out) const {
   Scalar first = 2;
   int hit = -1;
   const auto& colliders = m_cloth->colliders();
+  const Vec3<Scalar> middle = Scalar(0.5) * (x0 + x1);
+  const Scalar half_travel = Scalar(0.5) * (x1 - x0).norm();
   for (std::size_t k = 0; k < colliders.size(); ++k) {
-    const Scalar s = colliders[k].first_contact(x0, t, x1, t + dt, offset);
+    if (!may_reach(k, x0, x1, middle, half_travel, offset)) continue;
+    const Scalar s = colliders[k].first_contact(x0, m_bounds[k].start, x1, m_bounds[k].end, offset);
     if (s >= 0 && s < first) {
       first = s;
       hit = static_cast<int>(k);
     }
   }
   if (hit < 0) return false;
-  const ColliderContact<Scalar> q = colliders[static_cast<std::size_t>(hit)].query(x0, t);
+  const ColliderContact<Scalar> q =
+      colliders[static_cast<std::size_t>(hit)].query(x0, m_bounds[std::size_t(hit)].start);
   out = {node,     hit,        -1,
          q.normal, q.velocity, q.normal.dot(q.velocity) + (m_cloth->contact_thickness() - q.distance) / dt,
          Scalar(0)};
@@ -161,6 +207,7 @@ void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstR
   m_report = {};
   m_constrained = true;
   if (!active()) return;
+  bound(t, dt);
   // A node resting on a surface sits at d = h up to rounding: a small margin keeps it constrained
   // instead of letting it fall in and be caught by a second solve.
   const Scalar h = m_cloth->contact_thickness();
@@ -252,6 +299,7 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
     for (const Contact& contact : m_contacts) m_slot[static_cast<std::size_t>(contact.node)] = -1;
     m_contacts.clear();
     m_report = {};
+    bound(t, dt);
   }
   m_constrained = false;
   const auto& colliders = m_cloth->colliders();
@@ -286,8 +334,9 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
   const Scalar tolerance = m_cloth->contact_tolerance();
   for (Index i = 0; i < x.cols(); ++i) {
     if (pinned[static_cast<std::size_t>(i)] != 0) continue;
-    for (const Collider<Scalar>& collider : colliders) {
-      const ColliderContact<Scalar> q = collider.query(x_new.col(i), t + dt);
+    for (std::size_t k = 0; k < colliders.size(); ++k) {
+      if (!may_reach(k, x_new.col(i), x_new.col(i), x_new.col(i), 0, h)) continue;
+      const ColliderContact<Scalar> q = colliders[k].query(x_new.col(i), m_bounds[k].end);
       if (q.distance >= h) continue;
       m_report.deepest = std::max(m_report.deepest, h - q.distance);
       if (q.distance >= h - tolerance) continue;
