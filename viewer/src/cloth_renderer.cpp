@@ -15,7 +15,7 @@ layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_grid;   // (i, j) grid coordinates of the node
 uniform mat4 u_view_projection;
-uniform int u_mode;            // 0 cloth, 1 floor, 2 the cloth's shadow on the floor
+uniform int u_mode;            // 0 cloth, 1 floor, 2 a shadow on the floor, 3 a solid
 uniform vec3 u_light;
 uniform float u_floor_y;
 out vec3 v_world;
@@ -36,7 +36,7 @@ const char* fragment_shader = R"(#version 450 core
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_grid;
-uniform int u_mode;            // 0 cloth, 1 floor, 2 shadow
+uniform int u_mode;            // 0 cloth, 1 floor, 2 shadow, 3 solid
 uniform vec3 u_front;
 uniform vec3 u_back;
 uniform vec3 u_background;
@@ -46,9 +46,19 @@ uniform float u_pattern;       // strength of the woven pattern
 uniform vec3 u_floor_centre;
 uniform float u_floor_cell;
 uniform float u_floor_fade;    // distance at which the floor has faded into the background
+uniform vec3 u_solid;          // colour of the solids
 out vec4 frag_colour;
 void main() {
   vec3 to_eye = normalize(u_eye - v_world);
+  if (u_mode == 3) {
+    // A solid: its face normal, turned towards the eye (a plane is seen from either side).
+    vec3 n = normalize(v_normal);
+    if (dot(n, to_eye) < 0.0) n = -n;
+    float key = max(dot(n, u_light), 0.0);
+    float head = max(dot(n, to_eye), 0.0);
+    frag_colour = vec4(min(u_solid * (0.16 + 0.62 * key + 0.32 * head), vec3(1.0)), 1.0);
+    return;
+  }
   if (u_mode != 0) {
     vec2 c = floor(v_world.xz / u_floor_cell);
     float checker = mod(c.x + c.y, 2.0);
@@ -192,6 +202,10 @@ ClothRenderer::~ClothRenderer() {
   glDeleteFramebuffers(1, &m_msaa_fbo);
   glDeleteRenderbuffers(1, &m_msaa_depth);
   glDeleteRenderbuffers(1, &m_msaa_colour);
+  if (m_solid_vao != 0) {
+    glDeleteBuffers(1, &m_solid_vbo);
+    glDeleteVertexArrays(1, &m_solid_vao);
+  }
   glDeleteBuffers(1, &m_floor_vbo);
   glDeleteVertexArrays(1, &m_floor_vao);
   glDeleteBuffers(1, &m_ebo);
@@ -224,6 +238,36 @@ void ClothRenderer::update(const Eigen::Ref<const Eigen::Matrix3Xf>& x) {
   glBindBuffer(GL_ARRAY_BUFFER, m_dynamic_vbo);
   glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(m_vertex_data.size() * sizeof(float)),
                   m_vertex_data.data());
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+void ClothRenderer::set_solids(const std::vector<SolidMesh>& solids) {
+  std::vector<float> data;
+  m_solids.clear();
+  for (const SolidMesh& s : solids) {
+    if (s.vertices.size() % 6 != 0)
+      throw std::invalid_argument("ClothRenderer::set_solids: 6 floats per vertex expected");
+    m_solids.push_back({int(data.size() / 6), int(s.vertices.size() / 6), s.casts_shadow});
+    data.insert(data.end(), s.vertices.begin(), s.vertices.end());
+  }
+  if (m_solid_vao == 0) {
+    glGenVertexArrays(1, &m_solid_vao);
+    glBindVertexArray(m_solid_vao);
+    glGenBuffers(1, &m_solid_vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, m_solid_vbo);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(0));
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+    glEnableVertexAttribArray(0);
+    glEnableVertexAttribArray(1);
+    glBindVertexArray(0);
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, m_solid_vbo);
+  if (data.size() > m_solid_capacity) {
+    m_solid_capacity = data.size();
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_DYNAMIC_DRAW);
+  } else if (!data.empty()) {
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data());
+  }
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
@@ -272,7 +316,18 @@ Image ClothRenderer::render() {
     glDisable(GL_DEPTH_TEST);
     glBindVertexArray(m_vao);
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_triangles.size() * 3), GL_UNSIGNED_INT, nullptr);
+    if (!m_solids.empty()) {  // the solids' shadows, the same way
+      glBindVertexArray(m_solid_vao);
+      for (const SolidRange& solid : m_solids)
+        if (solid.shadow) glDrawArrays(GL_TRIANGLES, solid.first, solid.count);
+    }
     glEnable(GL_DEPTH_TEST);
+  }
+  if (!m_solids.empty()) {
+    glUniform1i(uniform(m_program, "u_mode"), 3);
+    glUniform3fv(uniform(m_program, "u_solid"), 1, m_settings.solid_colour.data());
+    glBindVertexArray(m_solid_vao);
+    for (const SolidRange& solid : m_solids) glDrawArrays(GL_TRIANGLES, solid.first, solid.count);
   }
   glUniform1i(uniform(m_program, "u_mode"), 0);
   glBindVertexArray(m_vao);

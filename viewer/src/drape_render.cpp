@@ -15,6 +15,7 @@
 #include <spawn.h>
 #include <string>
 #include <sys/wait.h>
+#include <utility>
 #include <unistd.h>
 #include <vector>
 
@@ -23,9 +24,11 @@
 #include "drape/io/obj.hpp"
 #include "drape/io/state_io.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/physics/force_assembler.hpp"
 #include "drape/realtime/realtime_driver.hpp"
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
+#include "drape/viewer/collider_mesh.hpp"
 #include "drape/viewer/offscreen_context.hpp"
 #include "drape/viewer/png.hpp"
 #include "render_settings.hpp"
@@ -101,7 +104,17 @@ class ProgressBar {
   std::chrono::steady_clock::time_point m_last{};
 };
 
-/// log.csv: one row per frame, flushed as it is written.
+/// The contact columns of a log row (ContactReport over the frame's steps).
+struct ContactColumns {
+  int contacts = 0, sticking = 0, sliding = 0;  // the frame's last step
+  int corrected = 0, after_solve = 0;           // summed over the frame's steps
+  int rounds = 0;                               // largest over the frame's steps
+  double deepest = 0;                           // largest over the frame's steps (m)
+  drape::Vec3<double> normal_force = drape::Vec3<double>::Zero(), friction_force = drape::Vec3<double>::Zero();  // mean (N)
+};
+
+/// log.csv: one row per frame, flushed as it is written. The columns are the same for every run
+/// (contact, pin and air columns are 0 without colliders, pins or air); docs/viewer.md.
 class FrameLog {
  public:
   FrameLog(const std::string& path, bool enabled) : m_path(path) {
@@ -110,7 +123,10 @@ class FrameLog {
     if (!m_file) stop(exit_runtime_error, "cannot write '" + path + "'");
     std::fputs(
         "frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,spring_energy,"
-        "gravity_energy,total_energy,max_strain,solver_iterations,max_residual\n",
+        "gravity_energy,total_energy,max_strain,solver_iterations,max_residual,contacts,sticking,sliding,"
+        "corrected,after_solve,contact_rounds,deepest_penetration,normal_force,normal_force_y,friction_force,"
+        "pin_reaction_y,"
+        "air_power\n",
         m_file);
   }
   ~FrameLog() {
@@ -119,15 +135,21 @@ class FrameLog {
   FrameLog(const FrameLog&) = delete;
   FrameLog& operator=(const FrameLog&) = delete;
 
+  bool enabled() const { return m_file != nullptr; }
+
   void write(int frame, const drape::Clothd& cloth, const drape::Stated& state, double wall, int steps, double dropped,
-             double factor, long long iterations, double residual) {
+             double factor, long long iterations, double residual, const ContactColumns& c, double pin_reaction_y,
+             double air_power) {
     if (!m_file) return;
     const double ek = drape::kinetic_energy(cloth, state);
     const double es = drape::spring_potential_energy(cloth, state.positions);
     const double eg = drape::gravitational_potential_energy(cloth, state.positions);
-    if (std::fprintf(m_file, "%d,%.9g,%.6f,%d,%.9g,%.6g,%.9g,%.9g,%.9g,%.9g,%.6g,%lld,%.3g\n", frame, state.time, wall,
+    if (std::fprintf(m_file, "%d,%.9g,%.6f,%d,%.9g,%.6g,%.9g,%.9g,%.9g,%.9g,%.6g,%lld,%.3g", frame, state.time, wall,
                      steps, dropped, factor, ek, es, eg, ek + es + eg, drape::max_strain(cloth, state.positions),
                      iterations, residual) < 0 ||
+        std::fprintf(m_file, ",%d,%d,%d,%d,%d,%d,%.6g,%.9g,%.9g,%.9g,%.9g,%.9g\n", c.contacts, c.sticking, c.sliding,
+                     c.corrected, c.after_solve, c.rounds, c.deepest, c.normal_force.norm(), c.normal_force.y(),
+                     c.friction_force.norm(), pin_reaction_y, air_power) < 0 ||
         std::fflush(m_file) != 0)
       throw drape::FileWriteError("cannot write '" + m_path + "'");
   }
@@ -143,12 +165,41 @@ struct FrameSteps {
   double dropped = 0;
   long long iterations = 0;
   double residual = 0;
+  ContactColumns contact;  // forces summed here, divided by the steps when logged
 };
+
+/// Simulated seconds the run covers after its start (for framing moving colliders).
+double run_length(const Settings& s) {
+  return s.time.duration_given ? s.time.duration : double(s.time.frames - 1) * s.time.frame_time;
+}
+
+/// The box the fixed camera frames: where the cloth can hang from its pins (hanging_bounds), every
+/// collider but the planes over the whole run (a moving one at 9 times), and the floor collider's
+/// height (the cloth can land there). Without colliders: hanging_bounds alone.
+drape::viewer::Bounds framed_box(const Settings& s, const drape::Clothd& cloth, const drape::Stated& start,
+                                 std::optional<double> floor_collider_y) {
+  drape::viewer::Bounds box = drape::viewer::hanging_bounds(cloth, start.positions);
+  for (const drape::Colliderd& c : cloth.colliders()) {
+    const std::vector<Eigen::Vector3f> local = drape::viewer::local_collider_mesh(c);
+    const int samples = c.motion().is_static() ? 1 : 9;
+    for (int k = 0; k < samples && !local.empty(); ++k) {
+      const double t = start.time + (samples > 1 ? run_length(s) * k / (samples - 1) : 0.0);
+      drape::viewer::extend(box, drape::viewer::place_mesh(local, c.motion().pose(t)));
+    }
+  }
+  if (floor_collider_y) {
+    const Eigen::Vector3f centre = box.centre();
+    box.extend(Eigen::Vector3f(centre.x(), float(*floor_collider_y), centre.z()));
+  }
+  return box;
+}
 
 /// A run: the simulation, the renderer and the outputs, and the two ways of stepping through time.
 class Run {
  public:
-  Run(const Settings& s, const drape::Clothd& cloth, drape::Stated start)
+  /// `framed`: the box the fixed camera frames (framed_box()); `floor_y`: the floor's height.
+  Run(const Settings& s, const drape::Clothd& cloth, drape::Stated start, const drape::viewer::Bounds& framed,
+      double floor_y)
       : m_s(s),
         m_cloth(cloth),
         m_integrator(drape::make_integrator(cloth, s.integrator, s.stepping)),
@@ -156,15 +207,21 @@ class Run {
         m_context(s.output.debug_gl ? drape::viewer::GlDebugSink(drape::viewer::print_gl_debug_message)
                                     : drape::viewer::GlDebugSink{}),
         m_renderer(cloth.grid().nx(), cloth.grid().ny(), cloth.grid().triangles(), render_settings(s, cloth)),
-        m_fixed_camera(drape::viewer::frame_bounds(drape::viewer::hanging_bounds(cloth, m_state.positions), aspect(s),
-                                                   float(s.output.azimuth), float(s.output.elevation))),
-        m_follow(aspect(s), float(s.output.azimuth), float(s.output.elevation), m_fixed_camera.floor_height),
+        m_fixed_camera(drape::viewer::frame_bounds(framed, aspect(s), float(s.output.azimuth), float(s.output.elevation))),
+        m_follow(aspect(s), float(s.output.azimuth), float(s.output.elevation), float(floor_y)),
         m_triangles(cloth.grid().triangles()),
         m_log(s.output.out + "/log.csv", !s.output.no_csv),
         m_progress(!s.output.quiet && ::isatty(STDERR_FILENO)),
         m_t0(m_state.time),
-        m_previous_sim(m_t0) {
+        m_previous_sim(m_t0),
+        m_forces(cloth, 1) {
+    m_fixed_camera.floor_height = float(floor_y);
     m_renderer.set_camera(m_fixed_camera);
+    // The colliders' meshes; a plane at the floor's height facing +y is the floor itself.
+    for (const drape::Colliderd& c : cloth.colliders()) {
+      if (drape::render::is_floor(c, floor_y)) continue;
+      m_solids.push_back({&c, drape::viewer::local_collider_mesh(c)});
+    }
   }
 
   /// Frames 0 .. n-1 at t0 + k frame_time, rounded to whole steps: rendering speed does not matter.
@@ -173,12 +230,12 @@ class Run {
     const int total =
         t.duration_given ? std::max(1, static_cast<int>(std::ceil(t.duration / t.frame_time - 1e-9)) + 1) : t.frames;
     m_total_frames = total;
-    draw(m_state.positions, {});
+    draw(m_state.positions, m_state.time, {});
     for (int k = 1; k < total; ++k) {
       const long long target = std::llround(double(k) * t.frame_time / m_s.stepping.dt);
       FrameSteps done;
       while (m_steps_total < target) step(done);
-      draw(m_state.positions, done);
+      draw(m_state.positions, m_state.time, done);
     }
     m_progress.finish();
   }
@@ -188,20 +245,24 @@ class Run {
   void realtime() {
     const drape::render::TimeLine& t = m_s.time;
     m_total_frames = t.frames;
-    draw(m_state.positions, {});
+    draw(m_state.positions, m_state.time, {});
     drape::RealtimeDriver<> driver(m_integrator->dt(), m_s.realtime);
     drape::Matrix3X<double> previous = m_state.positions, between;
+    double previous_time = m_state.time;
     driver.start();
     while (t.duration_given ? m_state.time - m_t0 < t.duration : m_frame < t.frames) {
       const drape::RealtimeFrame f = driver.next_frame();
       FrameSteps done;
       done.dropped = f.dropped;
       for (int k = 0; k < f.steps; ++k) {
-        if (k == f.steps - 1) previous = m_state.positions;
+        if (k == f.steps - 1) {
+          previous = m_state.positions;
+          previous_time = m_state.time;
+        }
         step(done);
       }
       between = previous + f.interpolation * (m_state.positions - previous);
-      draw(between, done);
+      draw(between, previous_time + f.interpolation * (m_state.time - previous_time), done);
     }
     m_progress.finish();
   }
@@ -239,6 +300,62 @@ class Run {
     ++done.steps;
     done.iterations += status.iterations;
     done.residual = std::max(done.residual, status.residual);
+    const drape::ContactReport<double>& report = m_integrator->contact_report();
+    ContactColumns& c = done.contact;
+    c.corrected += report.corrected;
+    c.after_solve += report.after_solve;
+    c.rounds = std::max(c.rounds, report.rounds);
+    c.deepest = std::max(c.deepest, report.deepest);
+    c.normal_force += report.normal_force;
+    c.friction_force += report.friction_force;
+  }
+
+  /// The log's contact columns for a frame after `done`: the counts of the last step, the forces
+  /// averaged over the frame's steps (a frame without steps repeats the last step's).
+  ContactColumns contact_columns(const FrameSteps& done) const {
+    const drape::ContactReport<double>& report = m_integrator->contact_report();
+    ContactColumns c = done.contact;
+    c.contacts = report.contacts;
+    c.sticking = report.sticking;
+    c.sliding = report.sliding;
+    if (done.steps > 0) {
+      c.normal_force /= done.steps;
+      c.friction_force /= done.steps;
+    } else if (m_steps_total > 0) {
+      c.normal_force = report.normal_force;
+      c.friction_force = report.friction_force;
+    }
+    return c;
+  }
+
+  /// The pins' reaction on the cloth (drape::pin_reaction, with one assembler for the run) and the
+  /// power of the force terms besides springs and gravity (the air's), sum of f . v (W).
+  std::pair<double, double> pin_reaction_y_and_air_power() {
+    if (m_cloth.pins().nodes().empty() && m_cloth.force_terms().empty()) return {0.0, 0.0};
+    m_force.resize(3, m_cloth.node_count());
+    double pin_y = 0;
+    if (!m_cloth.pins().nodes().empty()) {
+      m_forces.force(m_state.positions, m_state.velocities, m_state.time, m_force);
+      for (int p : m_cloth.pins().nodes()) pin_y -= m_force(1, p);
+    }
+    double power = 0;
+    if (!m_cloth.force_terms().empty()) {
+      m_force.setZero();
+      for (const auto& term : m_cloth.force_terms())
+        term->add_force(m_state.positions, m_state.velocities, m_state.time, m_force);
+      power = m_force.cwiseProduct(m_state.velocities).sum();
+    }
+    return {pin_y, power};
+  }
+
+  /// The colliders at time t: their meshes to draw, and the extra points the follow camera frames.
+  void place_solids(double t, std::vector<drape::viewer::SolidMesh>& meshes, drape::viewer::Bounds& box) const {
+    meshes.clear();
+    for (const Solid& solid : m_solids) {
+      if (solid.local.empty()) continue;  // planes: once the camera is known
+      meshes.push_back(drape::viewer::place_mesh(solid.local, solid.collider->motion().pose(t)));
+      drape::viewer::extend(box, meshes.back());
+    }
   }
 
   static std::string seconds(double t) {
@@ -248,15 +365,40 @@ class Run {
   }
 
   /// Renders `positions` as the next frame, writes its files and its log row.
-  void draw(const drape::Matrix3X<double>& positions, const FrameSteps& done) {
-    if (m_s.output.camera == drape::render::CameraMode::Follow)
-      m_renderer.set_camera(m_follow.update(positions, m_state.time - m_previous_sim));
+  void draw(const drape::Matrix3X<double>& positions, double time, const FrameSteps& done) {
+    if (m_solids.empty()) {
+      if (m_s.output.camera == drape::render::CameraMode::Follow)
+        m_renderer.set_camera(m_follow.update(positions, m_state.time - m_previous_sim));
+    } else {
+      drape::viewer::Bounds box;
+      place_solids(time, m_meshes, box);
+      if (m_s.output.camera == drape::render::CameraMode::Follow) {
+        // Frame the cloth and the colliders: the corners of the colliders' box join the nodes.
+        m_framed.resize(3, positions.cols() + (m_meshes.empty() ? 0 : 8));
+        m_framed.leftCols(positions.cols()) = positions;
+        for (int c = 0; c < 8 && !m_meshes.empty(); ++c)
+          m_framed.col(positions.cols() + c) =
+              Eigen::Vector3f((c & 1) ? box.max.x() : box.min.x(), (c & 2) ? box.max.y() : box.min.y(),
+                              (c & 4) ? box.max.z() : box.min.z())
+                  .cast<double>();
+        m_renderer.set_camera(m_follow.update(m_framed, m_state.time - m_previous_sim));
+      }
+      const drape::viewer::Camera& cam = m_renderer.camera();
+      for (const Solid& solid : m_solids)
+        if (solid.local.empty())
+          m_meshes.push_back(drape::viewer::plane_quad(*solid.collider, time, cam.target, 2.0f * cam.scene_radius));
+      m_renderer.set_solids(m_meshes);
+    }
     m_renderer.update_positions(positions);
     drape::viewer::write_png(frame_name(m_s.output.out, m_frame, "png"), m_renderer.render());
     if (m_s.output.obj) drape::write_obj(frame_name(m_s.output.out, m_frame, "obj"), positions, m_triangles);
     const double wall = wall_seconds();
     const double factor = wall > m_previous_wall ? (m_state.time - m_previous_sim) / (wall - m_previous_wall) : 0.0;
-    m_log.write(m_frame, m_cloth, m_state, wall, done.steps, done.dropped, factor, done.iterations, done.residual);
+    if (m_log.enabled()) {
+      const auto [pin_y, air_power] = pin_reaction_y_and_air_power();
+      m_log.write(m_frame, m_cloth, m_state, wall, done.steps, done.dropped, factor, done.iterations, done.residual,
+                  contact_columns(done), pin_y, air_power);
+    }
     m_previous_wall = wall;
     m_previous_sim = m_state.time;
     ++m_frame;
@@ -287,6 +429,16 @@ class Run {
   int m_frame = 0;
   int m_total_frames = 1;
   long long m_steps_total = 0;
+  drape::ForceAssembler<double> m_forces;  // for the pins' reaction in the log
+  drape::Matrix3X<double> m_force;
+  /// A collider to draw: its mesh in its own frame (empty for a plane, drawn as a quad).
+  struct Solid {
+    const drape::Colliderd* collider;
+    std::vector<Eigen::Vector3f> local;
+  };
+  std::vector<Solid> m_solids;
+  std::vector<drape::viewer::SolidMesh> m_meshes;
+  drape::Matrix3X<double> m_framed;  // nodes and colliders for the follow camera
 };
 
 /// Runs ffmpeg on the frames; true on success.
@@ -334,17 +486,31 @@ int run(const Settings& s) {
   // The scene plus the air's force terms (none in still air, so such a run is unchanged).
   drape::ClothSpecd spec = s.cloth;
   for (auto& term : drape::render::air_force_terms(s)) spec.force_terms.push_back(std::move(term));
-  const drape::Clothd cloth(spec);
+  std::optional<drape::Clothd> cloth;
+  cloth.emplace(drape::render::make_cloth(s, spec));
   // Inputs and outputs are checked before any simulation or rendering.
-  drape::Stated start = cloth.initial_state();
+  drape::Stated start = cloth->initial_state();
   if (!s.load_state.empty()) {
     try {
-      start = drape::load_state<double>(s.load_state, cloth.node_count());
+      start = drape::load_state<double>(s.load_state, cloth->node_count());
     } catch (const drape::StateFormatError& e) { stop(exit_bad_settings, std::string("--load-state: ") + e.what()); }
+  }
+  // The floor: at its fixed height, or just below the box the camera frames; --floor-collider puts
+  // a plane collider there, so the cloth lands where the floor is drawn.
+  const float aspect = float(s.output.width) / float(s.output.height);
+  const std::optional<double> fixed_floor = drape::render::fixed_floor_height(s);
+  drape::viewer::Bounds framed = framed_box(s, *cloth, start, s.floor.collider ? fixed_floor : std::nullopt);
+  const double floor_y =
+      fixed_floor ? *fixed_floor
+                  : double(drape::viewer::frame_bounds(framed, aspect, float(s.output.azimuth), float(s.output.elevation))
+                               .floor_height);
+  if (s.floor.collider) {
+    spec.colliders.push_back(drape::render::floor_collider(s, floor_y));
+    cloth.emplace(drape::render::make_cloth(s, spec));
   }
   prepare_output_folder(s.output.out);
 
-  Run run(s, cloth, std::move(start));
+  Run run(s, *cloth, std::move(start), framed, floor_y);
   if (s.time.realtime)
     run.realtime();
   else
@@ -356,11 +522,14 @@ int run(const Settings& s) {
     stop(exit_runtime_error,
          "ffmpeg could not make '" + s.output.video + "' from the frames in '" + s.output.out + "'");
   if (!s.output.quiet) {
-    const std::string forces = force_term_names(cloth);
-    std::fprintf(stderr, "drape-render: %d frames in '%s', t = %.4g s simulated in %.3g s (%lld steps, %s, %s%s)%s\n",
+    const std::string forces = force_term_names(*cloth);
+    const std::size_t colliders = cloth->colliders().size();
+    const std::string contact =
+        colliders == 0 ? "" : ", " + std::to_string(colliders) + (colliders == 1 ? " collider" : " colliders");
+    std::fprintf(stderr, "drape-render: %d frames in '%s', t = %.4g s simulated in %.3g s (%lld steps, %s, %s%s%s)%s\n",
                  run.frames_written(), s.output.out.c_str(), run.state().time, wall, run.steps(),
                  drape::to_string(s.integrator), s.time.realtime ? "real time" : "offline",
-                 forces.empty() ? "" : (", with " + forces).c_str(),
+                 forces.empty() ? "" : (", with " + forces).c_str(), contact.c_str(),
                  s.output.video.empty() ? "" : (", video " + s.output.video).c_str());
   }
   return 0;
@@ -379,7 +548,10 @@ int main(int argc, char** argv) {
   }
   try {
     return run(settings);
-  } catch (const Stop& s) { return s.exit_code; } catch (const std::invalid_argument& e) {
+  } catch (const Stop& s) { return s.exit_code; } catch (const SettingsError& e) {
+    std::fprintf(stderr, "drape-render: error: %s\n", e.what());
+    return exit_bad_settings;
+  } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "drape-render: error: %s\n", e.what());
     return exit_bad_settings;
   } catch (const std::exception& e) {

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <toml++/toml.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -28,6 +29,7 @@ std::string number(double v) {
   s << v;
   return s.str();
 }
+std::string number_text(double v) { return number(v); }
 
 [[noreturn]] void fail(const std::string& flag, const std::string& value, const std::string& allowed) {
   throw SettingsError(flag + " = " + value + " is invalid; allowed: " + allowed);
@@ -75,6 +77,8 @@ const std::map<std::string, std::string>& flag_of_parameter() {
       {"gust period", "--gust-period"},
       {"gust wavelength", "--gust-wavelength"},
       {"gust waves", "--gust-waves"},
+      {"contact thickness", "--contact-thickness"},
+      {"contact_rounds", "--contact-rounds"},
   };
   return flags;
 }
@@ -104,18 +108,20 @@ struct FileKeys {
 
 /// Runs a library check; its InvalidParameter becomes a SettingsError naming the flag, or the
 /// scene-file key when the value came from the file under a key that is not the flag's name.
+[[noreturn]] void fail_named(const InvalidParameter& e, const FileKeys& from_file = {}) {
+  const auto key = key_of_parameter().find(e.parameter());
+  if (key != key_of_parameter().end() && from_file.keys.count(key->second))
+    fail("scene file '" + from_file.file + "': " + key->second, e.value(), e.allowed());
+  const auto it = flag_of_parameter().find(e.parameter());
+  if (it == flag_of_parameter().end()) throw SettingsError(e.what());
+  fail(it->second, e.value(), e.allowed());
+}
+
 template <class Check>
 void checked(Check&& check, const FileKeys& from_file = {}) {
   try {
     check();
-  } catch (const InvalidParameter& e) {
-    const auto key = key_of_parameter().find(e.parameter());
-    if (key != key_of_parameter().end() && from_file.keys.count(key->second))
-      fail("scene file '" + from_file.file + "': " + key->second, e.value(), e.allowed());
-    const auto it = flag_of_parameter().find(e.parameter());
-    if (it == flag_of_parameter().end()) throw SettingsError(e.what());
-    fail(it->second, e.value(), e.allowed());
-  }
+  } catch (const InvalidParameter& e) { fail_named(e, from_file); }
 }
 
 /// The library's parse of an option name; its error names the flag and lists the names.
@@ -156,6 +162,12 @@ T from_toml(const toml::node& n, const std::string& key, const std::string& file
   } else if constexpr (std::is_same_v<T, std::string>) {
     if (!n.is_string()) bad_key(file, key, "must be a string");
     return *n.value<std::string>();
+  } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+    const toml::array* a = n.as_array();
+    if (!a) bad_key(file, key, "must be an array of numbers");
+    std::vector<double> out;
+    for (const toml::node& e : *a) out.push_back(from_toml<double>(e, key, file));
+    return out;
   } else if constexpr (std::is_same_v<T, std::array<double, 3>>) {
     const toml::array* a = n.as_array();
     if (!a || a->size() != 3) bad_key(file, key, "must be an array of 3 numbers [x, y, z]");
@@ -169,6 +181,177 @@ T from_toml(const toml::node& n, const std::string& key, const std::string& file
     for (const toml::node& e : *a) out.push_back(from_toml<int>(e, key, file));
     return out;
   }
+}
+
+// ---- colliders ([[colliders]] tables) ----------------------------------------------------------
+
+/// The keys of a [[colliders]] table: every shape's, then each shape's own (required, optional).
+struct ShapeKeys {
+  std::vector<std::string> required, optional;
+};
+const std::vector<std::string>& common_collider_keys() {
+  static const std::vector<std::string> keys = {"shape", "velocity", "angular_velocity", "static_friction",
+                                                "kinetic_friction"};
+  return keys;
+}
+const ShapeKeys& shape_keys(drape::ShapeKind kind) {
+  static const std::map<drape::ShapeKind, ShapeKeys> keys = {
+      {drape::ShapeKind::Plane, {{"point", "normal"}, {}}},
+      {drape::ShapeKind::Sphere, {{"center", "radius"}, {}}},
+      {drape::ShapeKind::Capsule, {{"a", "b", "radius"}, {}}},
+      {drape::ShapeKind::Box, {{"center", "half_extents"}, {"rotation_axis", "rotation_angle", "rounding"}}},
+  };
+  return keys.at(kind);
+}
+
+std::string joined(const std::vector<std::string>& words) {
+  std::string text;
+  for (const std::string& w : words) text += (text.empty() ? "" : ", ") + w;
+  return text;
+}
+
+/// "a box", "an ..." for messages.
+std::string a_shape(drape::ShapeKind kind) { return std::string("a ") + drape::to_string(kind); }
+
+drape::Vec3<double> vec3(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
+
+/// One [[colliders]] table (`key` is "colliders[k]"): checks its keys, reads its values and builds
+/// the collider with the library's factories; every error names the key, e.g. colliders[1].radius.
+drape::Colliderd collider_from_table(const toml::table& t, const std::string& key, const std::string& file) {
+  using drape::ShapeKind;
+  const toml::node* shape_node = t.get("shape");
+  if (!shape_node)
+    bad_key(file, key + ".shape", "is missing; the shape is one of " + drape::joined_names<ShapeKind>(" | "));
+  const std::string shape_name = from_toml<std::string>(*shape_node, key + ".shape", file);
+  ShapeKind kind{};
+  if (!drape::try_parse(shape_name, kind))
+    fail("scene file '" + file + "': " + key + ".shape", "'" + shape_name + "'", drape::joined_names<ShapeKind>(" | "));
+  const ShapeKeys& own = shape_keys(kind);
+  std::vector<std::string> allowed = common_collider_keys();
+  allowed.insert(allowed.end(), own.required.begin(), own.required.end());
+  allowed.insert(allowed.end(), own.optional.begin(), own.optional.end());
+  const auto is_allowed = [&](const std::string& k) {
+    return std::find(allowed.begin(), allowed.end(), k) != allowed.end();
+  };
+  for (const auto& [k, node] : t) {
+    const std::string name(k.str());
+    if (is_allowed(name)) continue;
+    for (const auto& other : drape::EnumNames<ShapeKind>::values) {
+      const ShapeKeys& o = shape_keys(other.value);
+      if (std::count(o.required.begin(), o.required.end(), name) + std::count(o.optional.begin(), o.optional.end(), name))
+        bad_key(file, key + "." + name,
+                "does not belong to " + a_shape(kind) + " (it is " + a_shape(other.value) + "'s); " + a_shape(kind) +
+                    " has the keys " + joined(allowed));
+    }
+    std::string underscored = name;
+    std::replace(underscored.begin(), underscored.end(), '-', '_');
+    const std::string hint =
+        underscored != name && is_allowed(underscored) ? " (did you mean '" + underscored + "'?)" : "";
+    throw SettingsError("scene file '" + file + "': unknown key '" + key + "." + name + "'" + hint + "; " +
+                        a_shape(kind) + " has the keys " + joined(allowed));
+  }
+  for (const std::string& k : own.required)
+    if (!t.get(k))
+      bad_key(file, key + "." + k, "is missing; " + a_shape(kind) + " needs " + joined(own.required));
+
+  const auto vector = [&](const char* k, std::array<double, 3> fallback = {0, 0, 0}) {
+    const toml::node* n = t.get(k);
+    return vec3(n ? from_toml<std::array<double, 3>>(*n, key + "." + k, file) : fallback);
+  };
+  const auto number = [&](const char* k, double fallback = 0) {
+    const toml::node* n = t.get(k);
+    return n ? from_toml<double>(*n, key + "." + k, file) : fallback;
+  };
+  // Read every value first (type errors name the key), then build.
+  const drape::Vec3<double> velocity = vector("velocity"), angular_velocity = vector("angular_velocity");
+  const bool moving = t.get("velocity") || t.get("angular_velocity");
+  // Either friction coefficient defaults to the other; both to 0.
+  double static_friction = number("static_friction"), kinetic_friction = number("kinetic_friction");
+  if (!t.get("kinetic_friction")) kinetic_friction = static_friction;
+  if (!t.get("static_friction")) static_friction = kinetic_friction;
+
+  // The library's names for this shape's keys (its InvalidParameter::parameter()).
+  std::map<std::string, std::string> key_of = {
+      {"collider radius", "radius"},           {"collider normal", "normal"},
+      {"collider half extents", "half_extents"}, {"collider rounding", "rounding"},
+      {"collider velocity", "velocity"},       {"collider angular velocity", "angular_velocity"},
+      {"static friction", "static_friction"},  {"kinetic friction", "kinetic_friction"},
+      {"capsule axis", "b"},                    {"collider rotation", "rotation_angle"},
+  };
+  const auto build = [&]() -> drape::Colliderd {
+    switch (kind) {
+      case ShapeKind::Plane:
+        key_of["collider position"] = "point";
+        return drape::Colliderd::plane(vector("point"), vector("normal"));
+      case ShapeKind::Sphere:
+        key_of["collider position"] = "center";
+        return drape::Colliderd::sphere(vector("center"), number("radius"));
+      case ShapeKind::Capsule: {
+        const drape::Vec3<double> a = vector("a"), b = vector("b");
+        key_of["collider position"] = a.allFinite() ? "b" : "a";  // the library checks a first
+        return drape::Colliderd::capsule(a, b, number("radius"));
+      }
+      case ShapeKind::Box: break;
+    }
+    key_of["collider position"] = "center";
+    const drape::Vec3<double> axis = vector("rotation_axis", {0, 1, 0});
+    const double angle = number("rotation_angle");
+    if (!(axis.allFinite() && axis.norm() > 0))
+      fail("scene file '" + file + "': " + key + ".rotation_axis",
+           "[" + number_text(axis[0]) + ", " + number_text(axis[1]) + ", " + number_text(axis[2]) + "]",
+           "finite and non-zero");
+    if (!std::isfinite(angle)) fail("scene file '" + file + "': " + key + ".rotation_angle", number_text(angle), "finite degrees");
+    const drape::Mat3<double> rotation =
+        Eigen::AngleAxisd(angle * (3.14159265358979323846 / 180.0), axis.normalized()).toRotationMatrix();
+    return drape::Colliderd::box(vector("center"), vector("half_extents"), rotation, number("rounding"));
+  };
+  try {
+    drape::Colliderd collider = build();
+    collider.set_friction(static_friction, kinetic_friction);
+    if (moving) collider.moving(velocity, angular_velocity);
+    return collider;
+  } catch (const InvalidParameter& e) {
+    // A coefficient not given took the other's value: the error is the typed one's.
+    if (e.parameter() == "static friction" && !t.get("static_friction")) key_of["static friction"] = "kinetic_friction";
+    if (e.parameter() == "kinetic friction" && !t.get("kinetic_friction")) key_of["kinetic friction"] = "static_friction";
+    const auto it = key_of.find(e.parameter());
+    if (it == key_of.end()) throw SettingsError("scene file '" + file + "': " + key + ": " + e.what());
+    // The value as the file has it (the library writes 17 digits): a number, or [x, y, z].
+    std::string value = e.value();
+    const toml::node* n = t.get(it->second);
+    if (n && n->is_number()) value = number_text(*n->value<double>());
+    if (n && n->is_array() && e.parameter() != "capsule axis") {
+      const drape::Vec3<double> v = vector(it->second.c_str());
+      value = "[" + number_text(v[0]) + ", " + number_text(v[1]) + ", " + number_text(v[2]) + "]";
+    }
+    fail("scene file '" + file + "': " + key + "." + it->second, value, e.allowed());
+  }
+}
+
+/// The scene file's `colliders`: an array of tables ([[colliders]]), appended to the scene's.
+void apply_colliders(const toml::node& node, Settings& s) {
+  const toml::array* list = node.as_array();
+  if (!list) bad_key(s.scene, "colliders", "must be an array of tables ([[colliders]] with a shape each)");
+  for (std::size_t k = 0; k < list->size(); ++k) {
+    const std::string key = "colliders[" + std::to_string(k) + "]";
+    const toml::table* table = (*list)[k].as_table();
+    if (!table) bad_key(s.scene, key, "must be a table ([[colliders]] with a shape = ...)");
+    s.cloth.colliders.push_back(collider_from_table(*table, key, s.scene));
+    s.collider_keys.push_back(key);
+  }
+}
+
+/// --sphere X Y Z R (scene-file key `sphere = [x, y, z, r]`), after the file's colliders.
+void add_sphere(Settings& s) {
+  if (s.sphere.empty()) return;
+  if (s.sphere.size() != 4) fail("--sphere", std::to_string(s.sphere.size()) + " numbers", "4 numbers: X Y Z R");
+  try {
+    s.cloth.colliders.push_back(drape::Colliderd::sphere({s.sphere[0], s.sphere[1], s.sphere[2]}, s.sphere[3]));
+  } catch (const InvalidParameter& e) {
+    const bool radius = e.parameter() == "collider radius";
+    fail(radius ? "--sphere (radius)" : "--sphere (centre)", radius ? number(s.sphere[3]) : e.value(), e.allowed());
+  }
+  s.collider_keys.push_back("--sphere");
 }
 
 /// Every setting: its CLI11 option and how to apply its scene-file value.
@@ -272,7 +455,7 @@ std::string key_in_table(const std::string& key) {
       hint = " (did you mean " + key_in_table(other) + "?)";
   throw SettingsError("scene file '" + file + "': unknown key '" + key + "'" + hint +
                       "; the keys are the flag names of --help without '--', the air's in the tables [air] and "
-                      "[air.gusts]");
+                      "[air.gusts], the colliders' in tables [[colliders]]");
 }
 
 /// Applies the keys of a scene-file table (`prefix` "" for the top level, "air." for [air], ...)
@@ -281,6 +464,10 @@ void apply_table(const toml::table& table, const std::string& prefix, std::map<s
                  Settings& s, const CLI::Option* frames, const CLI::Option* duration, FileKeys& from_file) {
   for (const auto& [k, node] : table) {
     const std::string key = prefix + std::string(k.str());
+    if (key == "colliders") {  // [[colliders]]: no flag
+      apply_colliders(node, s);
+      continue;
+    }
     if (is_table_key(key)) {
       const toml::table* sub = node.as_table();
       if (!sub) bad_key(s.scene, key, "must be a table ([" + key + "])");
@@ -333,6 +520,13 @@ void validate(const Settings& s, const FileKeys& from_file) {
   });
   checked([&] { s.realtime.validate(); });
   checked([&] { s.air.validate(); }, from_file);
+  // The colliders were checked as they were read; here the floor's settings. That no collider
+  // touches a pinned node at the start is drape::Cloth's check, when drape-render builds the cloth
+  // (make_cloth(), before anything runs): it needs the whole grid.
+  if (s.cloth.colliders.size() != s.collider_keys.size())
+    throw SettingsError("internal: every collider needs its key");  // a caller that filled only one
+  if (s.floor.height_given && !std::isfinite(s.floor.height)) fail("--floor-height", number(s.floor.height), "finite");
+  if (s.floor.collider) (void)floor_collider(s, 0.0);
   // The viewer's own.
   const TimeLine& t = s.time;
   if (!(std::isfinite(t.frame_time) && t.frame_time > 0 && t.frame_time <= 10))
@@ -364,6 +558,47 @@ void validate(const Settings& s, const FileKeys& from_file) {
 }  // namespace
 
 void validate(const Settings& s) { validate(s, {}); }
+
+std::optional<double> fixed_floor_height(const Settings& s) {
+  if (s.floor.height_given) return s.floor.height;
+  std::optional<double> y;
+  for (const drape::Colliderd& c : s.cloth.colliders) {
+    const double height = c.motion().pose(0).translation.y();
+    if (is_floor(c, height) && (!y || height > *y)) y = height;
+  }
+  return y;
+}
+
+bool is_floor(const drape::Colliderd& collider, double floor_height) {
+  if (collider.kind() != drape::ShapeKind::Plane || !collider.motion().is_static()) return false;
+  const drape::RigidPose<double> pose = collider.motion().pose(0);
+  const drape::Vec3<double> normal = pose.rotation.col(1);
+  return (normal - drape::Vec3<double>::UnitY()).norm() <= 1e-12 &&
+         std::abs(pose.translation.y() - floor_height) <= 1e-9 * std::max(1.0, std::abs(floor_height));
+}
+
+drape::Colliderd floor_collider(const Settings& s, double y) {
+  try {
+    return drape::Colliderd::plane({0.0, y, 0.0}, drape::Vec3<double>::UnitY()).set_friction(s.floor.friction, s.floor.friction);
+  } catch (const InvalidParameter& e) {
+    const bool friction = e.parameter() == "static friction" || e.parameter() == "kinetic friction";
+    fail(friction ? "--floor-friction" : "--floor-height", e.value(), e.allowed());
+  }
+}
+
+drape::Clothd make_cloth(const Settings& s, const drape::ClothSpecd& spec) {
+  try {
+    return drape::Clothd(spec);
+  } catch (const InvalidParameter& e) {
+    const std::string& name = e.parameter();
+    if (name.rfind("colliders[", 0) != 0) fail_named(e);
+    const std::size_t k = std::stoul(name.substr(10));
+    const std::string what = k < s.collider_keys.size() ? s.collider_keys[k]
+                             : s.floor.height_given     ? "--floor-height (of --floor-collider)"
+                                                        : "--floor-collider";
+    fail(what.rfind("colliders[", 0) == 0 ? "scene file '" + s.scene + "': " + what : what, e.value(), e.allowed());
+  }
+}
 
 std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(const Settings& s) {
   s.air.validate();
@@ -457,6 +692,30 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
           },
           "", "");
 
+  const char* contact = "Contact (scene file: also the tables [[colliders]], docs/viewer.md)";
+  bind.value("contact-thickness", c.contact_thickness,
+             "cloth half-thickness in m: nodes rest this far from a collider's surface, >= 0", contact);
+  bind.value("contact-rounds", i.contact_rounds,
+             "implicit: linear solves per step while the contact set changes, [1, 32]", contact);
+  CLI::Option* sphere = app.add_option("--sphere", s.sphere,
+                                       "X Y Z R: a frictionless sphere collider of radius R (m) centred at (X, Y, Z), "
+                                       "after the [[colliders]] of the scene file; scene file: sphere = [x, y, z, r]");
+  sphere->expected(4)->type_name("FLOAT")->default_str("none")->group(contact);
+  keys["sphere"] = {sphere, [&s](const toml::node& n, const std::string& file) {
+                      s.sphere = from_toml<std::vector<double>>(n, "sphere", file);
+                      if (s.sphere.size() != 4) bad_key(file, "sphere", "must be an array of 4 numbers [x, y, z, r]");
+                    }};
+  bind.value("floor-collider", s.floor.collider,
+             "the floor the viewer draws is also a plane collider (at the floor's height, see --floor-height)",
+             contact);
+  bind.value("floor-friction", s.floor.friction,
+             "static and kinetic friction coefficient of --floor-collider, >= 0", contact);
+  bind.value("floor-height", s.floor.height,
+             "y of the floor (drawn, and --floor-collider) in m; default: the highest static plane collider facing +y, "
+             "else just below the box the camera frames",
+             contact)
+      ->default_str("auto");
+
   const char* time = "Time line";
   CLI::Option* frames = bind.value("frames", s.time.frames, "frames to render, [1, 10000000]", time);
   CLI::Option* duration = bind.value(
@@ -495,6 +754,7 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   }
   s.time.frames_given = frames->count() > 0;
   s.time.duration_given = duration->count() > 0;
+  s.floor.height_given = keys["floor-height"].option->count() > 0;
 
   FileKeys from_file{s.scene, {}};
   if (!s.scene.empty()) {
@@ -507,7 +767,9 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
       throw SettingsError("scene file '" + s.scene + "': " + std::string(e.description()) + " (" + where.str() + ")");
     }
     apply_table(table, "", keys, s, frames, duration, from_file);
+    s.floor.height_given = s.floor.height_given || from_file.keys.count("floor-height") > 0;
   }
+  add_sphere(s);
   validate(s, from_file);
   return true;
 }

@@ -3,8 +3,11 @@
 // the real-time driver's settings, the air), which the library validates, plus the viewer's time
 // line and output. Every field is a command-line flag and a key of a TOML scene file: the same
 // name at the top level, except the air's, which are keys of the tables [air] and [air.gusts].
+// The colliders are tables [[colliders]] of the scene file (no flag), plus --sphere and the floor.
 
+#include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -55,6 +58,16 @@ struct Output {
   bool quiet = false;
 };
 
+/// The floor the viewer draws, and whether it is a collider.
+struct Floor {
+  bool collider = false;  ///< --floor-collider: a plane collider where the floor is drawn
+  double friction = 0;    ///< --floor-friction: its static and kinetic friction coefficient
+  /// --floor-height (m); unset: the highest static plane collider facing +y, else just below the
+  /// box the fixed camera frames (the cloth hanging from its pins, and the colliders).
+  double height = std::numeric_limits<double>::quiet_NaN();
+  bool height_given = false;
+};
+
 struct Settings {
   std::string scene;       ///< TOML file with the same keys as the flags
   std::string load_state;  ///< start from this saved state
@@ -67,13 +80,20 @@ struct Settings {
   /// Wind, gusts, linear drag and aerodynamic drag and lift; still and inactive by default (no
   /// force term is added, drape::air_force_terms()).
   drape::AirSettings air;
+  /// The scene's colliders are in cloth.colliders: the [[colliders]] tables in order, then --sphere
+  /// (the floor collider is added at run time, floor_collider()). Here, for each, the key or flag
+  /// that made it ("colliders[2]", "--sphere"), for error messages.
+  std::vector<std::string> collider_keys;
+  std::vector<double> sphere;  ///< --sphere X Y Z R; empty if not given
+  Floor floor;
 
   TimeLine time;
   Output output;
 };
 
 /// Parses the command line and the scene file it names (flags override the file), validates
-/// everything (the library's checks for the library's settings). Returns false when the program
+/// everything (the library's checks for the library's settings) but the one that needs the whole
+/// cloth, colliders clear of the pins (make_cloth()). Returns false when the program
 /// should exit at once with `exit_code` (after --help, or a parse error already reported).
 /// \throws SettingsError for a bad value or an unknown/mistyped scene-file key.
 bool parse_settings(int argc, char** argv, Settings& settings, int& exit_code);
@@ -84,6 +104,24 @@ void validate(const Settings& s);
 /// The force terms of `s.air` for the cloth of `s.cloth` (drape::air_force_terms()); none when the
 /// air exerts no force (AirSettings::active() is false), so a still-air run is unchanged.
 std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(const Settings& s);
+
+/// The height of the floor (drawn, and the floor collider) if the settings fix it: --floor-height,
+/// else the highest static plane collider whose normal is +y; nullopt: the camera puts it just
+/// below the box it frames (chosen at run time from the start state).
+std::optional<double> fixed_floor_height(const Settings& s);
+
+/// True if `collider` is drawn as the floor: a static plane facing +y at `floor_height`.
+bool is_floor(const drape::Colliderd& collider, double floor_height);
+
+/// The plane collider of --floor-collider at height y, with --floor-friction.
+/// \throws SettingsError naming --floor-friction or --floor-height.
+drape::Colliderd floor_collider(const Settings& s, double y);
+
+/// drape::Cloth(spec) for the settings `s`: `spec` is s.cloth (plus force terms), its colliders
+/// s.cloth.colliders and at most the floor collider after them. The library's error about a collider
+/// touching a pinned node (`colliders[k]`) names the key or flag that made collider k.
+/// \throws SettingsError.
+drape::Clothd make_cloth(const Settings& s, const drape::ClothSpecd& spec);
 
 /// The executable path of `program` on PATH, or "" if it is not installed.
 std::string find_on_path(const std::string& program);

@@ -8,8 +8,9 @@
 /// Per-vertex normals are recomputed on the CPU each frame (area-weighted face normals).
 /// Shading: Lambert with a key light from above plus a head light, lit on both sides (the normal
 /// is flipped on back faces, `gl_FrontFacing`), one colour per side; face culling is disabled.
-/// A checkered floor below the cloth gives depth. Rendering goes into a multisampled framebuffer
-/// object that is resolved and read back.
+/// A checkered floor below the cloth gives depth. Rigid bodies (the colliders) can be added as
+/// solids: triangle meshes in one colour, flat shaded, casting shadows on the floor like the cloth.
+/// Rendering goes into a multisampled framebuffer object that is resolved and read back.
 
 #include <Eigen/Core>
 #include <array>
@@ -30,6 +31,14 @@ struct RenderSettings {
   Eigen::Vector3f front_colour{0.80f, 0.28f, 0.20f};  ///< side whose normal is +y at rest (top)
   Eigen::Vector3f back_colour{0.20f, 0.42f, 0.78f};   ///< underside
   Eigen::Vector3f background{0.93f, 0.94f, 0.96f};
+  Eigen::Vector3f solid_colour{0.70f, 0.71f, 0.69f};  ///< the solids (colliders): a neutral grey
+};
+
+/// A rigid body to draw: triangles of three vertices each, `x y z nx ny nz` per vertex, in the
+/// world frame; the normal is the triangle's (flat shading; either side is lit).
+struct SolidMesh {
+  std::vector<float> vertices;
+  bool casts_shadow = true;  ///< its planar shadow is drawn on the floor (not for planes)
 };
 
 class ClothRenderer {
@@ -53,6 +62,9 @@ class ClothRenderer {
     update(m_positions_f);
   }
 
+  /// The solids drawn with the cloth from now on (replacing the previous ones); none at first.
+  void set_solids(const std::vector<SolidMesh>& solids);
+
   /// Draws the last uploaded positions and reads the image back.
   Image render();
 
@@ -69,6 +81,13 @@ class ClothRenderer {
   Eigen::Matrix3Xf m_positions_f;
   unsigned m_program = 0, m_vao = 0, m_dynamic_vbo = 0, m_static_vbo = 0, m_ebo = 0;
   unsigned m_floor_vao = 0, m_floor_vbo = 0;
+  unsigned m_solid_vao = 0, m_solid_vbo = 0;  // created by the first set_solids()
+  std::size_t m_solid_capacity = 0;            // floats the solid buffer holds
+  struct SolidRange {
+    int first, count;  // vertices
+    bool shadow;
+  };
+  std::vector<SolidRange> m_solids;
   unsigned m_msaa_fbo = 0, m_msaa_colour = 0, m_msaa_depth = 0, m_resolve_fbo = 0, m_resolve_colour = 0;
   std::vector<unsigned char> m_readback;
 };
