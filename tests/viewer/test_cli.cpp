@@ -550,7 +550,8 @@ constexpr int col_contacts = 13, col_corrected = 16, col_after_solve = 17, col_d
 
 }  // namespace
 
-TEST_CASE("colliders: [[colliders]] tables build the library's colliders where the file puts them", "[cli][colliders]") {
+TEST_CASE("colliders: [[colliders]] tables build the library's colliders where the file puts them",
+          "[cli][colliders]") {
   const fs::path dir = fresh_dir("colliders_parse");
   std::ofstream(dir / "scene.toml") << R"(
 contact-thickness = 0.01
@@ -682,29 +683,37 @@ TEST_CASE("colliders: bad tables, keys and values are errors naming the key", "[
     std::vector<std::string> expected;
   };
   const Case cases[] = {
-      {sphere + "[[colliders]]\nshape = \"sphere\"\ncenter = [0, -1, 0]\nradius = -0.5\n", {},
+      {sphere + "[[colliders]]\nshape = \"sphere\"\ncenter = [0, -1, 0]\nradius = -0.5\n",
+       {},
        {"colliders[1].radius = -0.5", "finite and > 0"}},
-      {sphere + "[[colliders]]\nshape = \"cone\"\n", {}, {"colliders[1].shape = 'cone'", "plane | sphere | capsule | box"}},
+      {sphere + "[[colliders]]\nshape = \"cone\"\n",
+       {},
+       {"colliders[1].shape = 'cone'", "plane | sphere | capsule | box"}},
       {"[[colliders]]\ncenter = [0, 0, 0]\n", {}, {"key 'colliders[0].shape' is missing"}},
       {"[[colliders]]\nshape = 3\n", {}, {"key 'colliders[0].shape' must be a string"}},
       {box + "radius = 2.0\n", {}, {"key 'colliders[0].radius' does not belong to a box", "a sphere's"}},
       {sphere + "normal = [0, 1, 0]\n", {}, {"key 'colliders[0].normal' does not belong to a sphere", "a plane's"}},
       {sphere + "rounding = 0.1\n", {}, {"key 'colliders[0].rounding' does not belong to a sphere"}},
       {sphere + "colour = \"red\"\n", {}, {"unknown key 'colliders[0].colour'", "center, radius"}},
-      {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\nhalf-extents = [1, 1, 1]\n", {},
+      {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\nhalf-extents = [1, 1, 1]\n",
+       {},
        {"unknown key 'colliders[0].half-extents'", "did you mean 'half_extents'"}},
-      {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\n", {},
+      {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\n",
+       {},
        {"key 'colliders[0].half_extents' is missing", "a box needs center, half_extents"}},
       {"[[colliders]]\nshape = \"sphere\"\nradius = 1.0\n", {}, {"key 'colliders[0].center' is missing"}},
       {sphere + sphere + "static_friction = \"high\"\n", {}, {"key 'colliders[1].static_friction' must be a number"}},
       {sphere + "velocity = [1, 2]\n", {}, {"key 'colliders[0].velocity' must be an array of 3 numbers"}},
-      {"[[colliders]]\nshape = \"sphere\"\ncenter = [1, inf, 1]\nradius = 0.5\n", {}, {"colliders[0].center = [1, inf, 1]", "finite"}},
+      {"[[colliders]]\nshape = \"sphere\"\ncenter = [1, inf, 1]\nradius = 0.5\n",
+       {},
+       {"colliders[0].center = [1, inf, 1]", "finite"}},
       {plane + "point = [0, nan, 0]\nnormal = [0, 1, 0]\n", {}, {"colliders[0].point = [0, nan, 0]", "finite"}},
       {plane + "point = [0, -1, 0]\nnormal = [0, 0, 0]\n", {}, {"colliders[0].normal = [0, 0, 0]", "non-zero"}},
       {capsule + "a = [0, -1, 0]\nb = [0, -1, 0]\n", {}, {"colliders[0].b = a == b", "a != b"}},
       {capsule + "a = [0, -inf, 0]\nb = [0, -1, 0]\n", {}, {"colliders[0].a = [0, -inf, 0]", "finite"}},
       {capsule + "a = [0, -1, 0]\nb = [nan, -1, 0]\n", {}, {"colliders[0].b = [nan, -1, 0]", "finite"}},
-      {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\nhalf_extents = [1, 0, 1]\n", {},
+      {"[[colliders]]\nshape = \"box\"\ncenter = [0, -2, 0]\nhalf_extents = [1, 0, 1]\n",
+       {},
        {"colliders[0].half_extents = [1, 0, 1]", "> 0"}},
       {box + "rounding = 0.6\n", {}, {"colliders[0].rounding = 0.6", "[0, 0.5]"}},
       {box + "rotation_axis = [0, 0, 0]\n", {}, {"colliders[0].rotation_axis = [0, 0, 0]", "non-zero"}},
@@ -738,7 +747,8 @@ TEST_CASE("colliders: bad tables, keys and values are errors naming the key", "[
     for (const std::string& e : c.expected) REQUIRE_THAT(message, Catch::Contains(e));
   }
   // The same through drape-render: exit code 2 before anything is written.
-  std::ofstream(dir / "scene.toml") << sphere << "[[colliders]]\nshape = \"sphere\"\ncenter = [0, -1, 0]\nradius = -0.5\n";
+  std::ofstream(dir / "scene.toml") << sphere
+                                    << "[[colliders]]\nshape = \"sphere\"\ncenter = [0, -1, 0]\nradius = -0.5\n";
   const Result r = run(small + "--scene " + (dir / "scene.toml").string() + " --out " + (dir / "out").string());
   INFO(r.output);
   REQUIRE(r.code == 2);
@@ -764,8 +774,8 @@ TEST_CASE("colliders: one touching a pinned node at the start is refused under i
   };
   for (const Case& c : cases) {
     std::ofstream(dir / "scene.toml") << c.toml;
-    const Result r =
-        run(small + "--frames 2 --scene " + (dir / "scene.toml").string() + " " + c.flags + " --out " + (dir / "out").string());
+    const Result r = run(small + "--frames 2 --scene " + (dir / "scene.toml").string() + " " + c.flags + " --out " +
+                         (dir / "out").string());
     INFO(c.toml << c.flags << "\n" << r.output);
     REQUIRE(r.code == 2);
     REQUIRE_THAT(r.output, Catch::Contains(c.expected + " = a collider touching pinned node 0"));
@@ -777,15 +787,18 @@ TEST_CASE("colliders: one touching a pinned node at the start is refused under i
   const drape::render::Settings s = parse({"--scene", (dir / "scene.toml").string(), "--nx", "8", "--ny", "8"});
   REQUIRE_THROWS_WITH(drape::render::make_cloth(s, s.cloth), Catch::Contains("scene.toml': colliders[1] = "));
   // Clear of the pins by more than the thickness: accepted.
-  std::ofstream(dir / "scene.toml") << away + "[[colliders]]\nshape = \"box\"\ncenter = [-0.5, 0, 0]\n"
-                                               "half_extents = [0.49, 0.1, 0.1]\n";
-  const Result ok = run(small + "--frames 2 --scene " + (dir / "scene.toml").string() + " --out " + (dir / "out").string());
+  std::ofstream(dir / "scene.toml") << away +
+                                           "[[colliders]]\nshape = \"box\"\ncenter = [-0.5, 0, 0]\n"
+                                           "half_extents = [0.49, 0.1, 0.1]\n";
+  const Result ok =
+      run(small + "--frames 2 --scene " + (dir / "scene.toml").string() + " --out " + (dir / "out").string());
   INFO(ok.output);
   REQUIRE(ok.code == 0);
   fs::remove_all(dir);
 }
 
-TEST_CASE("--floor-collider: the cloth lands on the floor where it is drawn; the log reports the contact", "[cli][colliders]") {
+TEST_CASE("--floor-collider: the cloth lands on the floor where it is drawn; the log reports the contact",
+          "[cli][colliders]") {
   const fs::path dir = fresh_dir("floor");
   std::ofstream(dir / "free.toml") << "pins = []\n";  // nothing pinned: the cloth falls
   const std::string common = small + "--scene " + (dir / "free.toml").string() +
@@ -799,7 +812,8 @@ TEST_CASE("--floor-collider: the cloth lands on the floor where it is drawn; the
                                                    32.0f / 24.0f, 25.0f, 15.0f)
                            .floor_height;
   REQUIRE(drawn < -0.01);
-  for (const auto& [flags, floor] : std::vector<std::pair<std::string, double>>{{"", drawn}, {"--floor-height -0.3", -0.3}}) {
+  for (const auto& [flags, floor] :
+       std::vector<std::pair<std::string, double>>{{"", drawn}, {"--floor-height -0.3", -0.3}}) {
     const fs::path out = dir / (flags.empty() ? "auto" : "fixed");
     const Result r = run(common + flags + " --out " + out.string() + " --save-state " + (out / "state").string());
     INFO(flags << "\n" << r.output);
@@ -814,7 +828,7 @@ TEST_CASE("--floor-collider: the cloth lands on the floor where it is drawn; the
     REQUIRE(rows.size() == 21);
     const std::vector<double>& last = rows.back();
     REQUIRE(last.size() == 25);
-    REQUIRE(last[col_contacts] == 64);                              // every node rests on the floor
+    REQUIRE(last[col_contacts] == 64);                                    // every node rests on the floor
     REQUIRE(last[col_normal_y] == Approx(64 * 0.03 * 10).epsilon(1e-3));  // carrying the weight
     REQUIRE(last[col_corrected] == 0);
     REQUIRE(last[col_after_solve] == 0);  // constraints of the solve
@@ -832,11 +846,13 @@ TEST_CASE("--floor-collider: the cloth lands on the floor where it is drawn; the
 TEST_CASE("colliders are drawn at their pose at the frame's time", "[cli][colliders]") {
   const fs::path dir = fresh_dir("colliders_drawn");
   // No gravity: the cloth stays put, so only a collider can change the image.
-  const std::string common = "--nx 8 --ny 8 --width 96 --height 72 --samples 1 --quiet --no-csv --gravity 0 "
-                             "--frames 3 --frame-time 0.2 --integrator implicit --dt 0.01 ";
+  const std::string common =
+      "--nx 8 --ny 8 --width 96 --height 72 --samples 1 --quiet --no-csv --gravity 0 "
+      "--frames 3 --frame-time 0.2 --integrator implicit --dt 0.01 ";
   // Two specks fix the box the fixed camera frames, whatever the third sphere does.
-  const std::string specks = "[[colliders]]\nshape = \"sphere\"\ncenter = [-1.5, -1.5, -1.5]\nradius = 0.01\n"
-                             "[[colliders]]\nshape = \"sphere\"\ncenter = [2.5, 1.0, 2.5]\nradius = 0.01\n";
+  const std::string specks =
+      "[[colliders]]\nshape = \"sphere\"\ncenter = [-1.5, -1.5, -1.5]\nradius = 0.01\n"
+      "[[colliders]]\nshape = \"sphere\"\ncenter = [2.5, 1.0, 2.5]\nradius = 0.01\n";
   const auto sphere = [](const char* z) {
     return std::string("[[colliders]]\nshape = \"sphere\"\ncenter = [1.2, -0.3, ") + z + "]\nradius = 0.3\n";
   };
@@ -860,15 +876,15 @@ TEST_CASE("colliders are drawn at their pose at the frame's time", "[cli][collid
   const auto still = frames("--scene " + (dir / "still.toml").string(), "still");
   const auto later = frames("--scene " + (dir / "later.toml").string(), "later");
   const auto moving = frames("--scene " + (dir / "moving.toml").string(), "moving");
-  REQUIRE(same(none[0], none[2]));        // nothing moves
-  REQUIRE(same(still[0], still[2]));      // a static collider stays
-  REQUIRE(!same(still[0], none[0]));      // and is drawn
-  REQUIRE(same(moving[0], still[0]));     // the moving one at t = 0
-  REQUIRE(same(moving[2], later[2]));     // and at t = 0.4 s (frame 2)
+  REQUIRE(same(none[0], none[2]));     // nothing moves
+  REQUIRE(same(still[0], still[2]));   // a static collider stays
+  REQUIRE(!same(still[0], none[0]));   // and is drawn
+  REQUIRE(same(moving[0], still[0]));  // the moving one at t = 0
+  REQUIRE(same(moving[2], later[2]));  // and at t = 0.4 s (frame 2)
   REQUIRE(!same(moving[2], moving[0]));
-  // Both cameras keep a collider in view that moves far from the cloth (4 m in 0.4 s): the fixed
-  // one frames its whole path, the follow one where it is.
-  std::ofstream(dir / "fast.toml") << sphere("0.35") << "velocity = [0.0, 0.0, -10.0]\n";
+  // Both cameras keep a collider in view that moves far from the cloth (4 m to the side in 0.4 s):
+  // the fixed one frames its whole path, the follow one where it is.
+  std::ofstream(dir / "fast.toml") << sphere("0.35") << "velocity = [10.0, 0.0, 0.0]\n";
   const auto grey_pixels = [](const drape::viewer::Image& image) {  // the collider's colour, lit
     int n = 0;
     for (int y = 0; y < image.height; ++y)
@@ -887,8 +903,9 @@ TEST_CASE("colliders are drawn at their pose at the frame's time", "[cli][collid
   fs::remove_all(dir);
 }
 
-TEST_CASE("scenes/drop_on_sphere.toml and scenes/tablecloth.toml run their whole length, the cloth outside the colliders",
-          "[cli][colliders]") {
+TEST_CASE(
+    "scenes/drop_on_sphere.toml and scenes/tablecloth.toml run their whole length, the cloth outside the colliders",
+    "[cli][colliders]") {
   for (const char* name : {"drop_on_sphere", "tablecloth"}) {
     INFO(name);
     const fs::path scene = scenes_dir / (std::string(name) + ".toml");
@@ -898,7 +915,8 @@ TEST_CASE("scenes/drop_on_sphere.toml and scenes/tablecloth.toml run their whole
                          (dir / "out").string() + " --save-state " + (dir / "state").string());
     INFO(r.output);
     REQUIRE(r.code == 0);  // a failed step would exit with 3
-    REQUIRE_THAT(r.output, Catch::Contains("121 frames") && Catch::Contains("implicit") && Catch::Contains("2 colliders"));
+    REQUIRE_THAT(r.output,
+                 Catch::Contains("121 frames") && Catch::Contains("implicit") && Catch::Contains("2 colliders"));
     // Every node ends outside every collider by the contact thickness (to the end-of-step
     // tolerance), and the end-of-step check never had to push one out.
     const drape::render::Settings s = parse({"--scene", scene.string()});

@@ -231,7 +231,8 @@ TEST_CASE("the follow camera keeps every node of a falling cloth inside the imag
   }
 }
 
-TEST_CASE("collider meshes: every vertex on the surface, faces outward, placed by the pose at t", "[viewer][colliders]") {
+TEST_CASE("collider meshes: every vertex on the surface, faces outward, placed by the pose at t",
+          "[viewer][colliders]") {
   using C = drape::Collider<double>;
   const drape::Mat3<double> tilt = Eigen::AngleAxisd(0.4, drape::Vec3<double>(1, 2, 3).normalized()).toRotationMatrix();
   struct Case {
@@ -259,7 +260,8 @@ TEST_CASE("collider meshes: every vertex on the surface, faces outward, placed b
       for (std::size_t k = 0; k < mesh.vertices.size(); k += 18) {  // one triangle
         drape::Vec3<double> centroid = drape::Vec3<double>::Zero();
         for (int v = 0; v < 3; ++v) {
-          const drape::Vec3<double> p(mesh.vertices[k + 6 * v], mesh.vertices[k + 6 * v + 1], mesh.vertices[k + 6 * v + 2]);
+          const drape::Vec3<double> p(mesh.vertices[k + 6 * v], mesh.vertices[k + 6 * v + 1],
+                                      mesh.vertices[k + 6 * v + 2]);
           worst = std::max(worst, std::abs(c.collider.query(p, t).distance));
           centroid += p / 3;
         }
@@ -267,8 +269,8 @@ TEST_CASE("collider meshes: every vertex on the surface, faces outward, placed b
         least_alignment = std::min(least_alignment, n.dot(c.collider.query(centroid, t).normal));
       }
       INFO("t = " << t << ", largest |distance| of a vertex " << worst << ", least n . normal " << least_alignment);
-      REQUIRE(worst < 1e-5);              // on the surface (float precision)
-      REQUIRE(least_alignment > 0.95);    // flat faces, outward
+      REQUIRE(worst < 1e-5);            // on the surface (float precision)
+      REQUIRE(least_alignment > 0.95);  // flat faces, outward
     }
   }
   REQUIRE(local_collider_mesh(C::plane({0, 0, 0}, {0, 1, 0})).empty());
@@ -296,8 +298,8 @@ TEST_CASE("solids are drawn in their own colour, over the cloth where they are i
   renderer.update_positions(x);
   const Image without = renderer.render();
   // A box standing on the middle of the cloth, in front of it from every direction above.
-  const drape::Collider<double> box = drape::Collider<double>::box(b.centre().cast<double>() + drape::Vec3<double>(0, 0.15, 0),
-                                                                    {0.15, 0.15, 0.15});
+  const drape::Collider<double> box =
+      drape::Collider<double>::box(b.centre().cast<double>() + drape::Vec3<double>(0, 0.15, 0), {0.15, 0.15, 0.15});
   renderer.set_solids({place_mesh(local_collider_mesh(box), box.motion().pose(0.0))});
   const Image with = renderer.render();
   const std::uint8_t* centre = with.pixel(width / 2, height / 2);

@@ -110,7 +110,8 @@ struct ContactColumns {
   int corrected = 0, after_solve = 0;           // summed over the frame's steps
   int rounds = 0;                               // largest over the frame's steps
   double deepest = 0;                           // largest over the frame's steps (m)
-  drape::Vec3<double> normal_force = drape::Vec3<double>::Zero(), friction_force = drape::Vec3<double>::Zero();  // mean (N)
+  drape::Vec3<double> normal_force = drape::Vec3<double>::Zero();  // averaged over the frame's steps (N)
+  drape::Vec3<double> friction_force = drape::Vec3<double>::Zero();
 };
 
 /// log.csv: one row per frame, flushed as it is written. The columns are the same for every run
@@ -125,8 +126,7 @@ class FrameLog {
         "frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,spring_energy,"
         "gravity_energy,total_energy,max_strain,solver_iterations,max_residual,contacts,sticking,sliding,"
         "corrected,after_solve,contact_rounds,deepest_penetration,normal_force,normal_force_y,friction_force,"
-        "pin_reaction_y,"
-        "air_power\n",
+        "pin_reaction_y,air_power\n",
         m_file);
   }
   ~FrameLog() {
@@ -207,7 +207,8 @@ class Run {
         m_context(s.output.debug_gl ? drape::viewer::GlDebugSink(drape::viewer::print_gl_debug_message)
                                     : drape::viewer::GlDebugSink{}),
         m_renderer(cloth.grid().nx(), cloth.grid().ny(), cloth.grid().triangles(), render_settings(s, cloth)),
-        m_fixed_camera(drape::viewer::frame_bounds(framed, aspect(s), float(s.output.azimuth), float(s.output.elevation))),
+        m_fixed_camera(
+            drape::viewer::frame_bounds(framed, aspect(s), float(s.output.azimuth), float(s.output.elevation))),
         m_follow(aspect(s), float(s.output.azimuth), float(s.output.elevation), float(floor_y)),
         m_triangles(cloth.grid().triangles()),
         m_log(s.output.out + "/log.csv", !s.output.no_csv),
@@ -501,9 +502,10 @@ int run(const Settings& s) {
   const std::optional<double> fixed_floor = drape::render::fixed_floor_height(s);
   drape::viewer::Bounds framed = framed_box(s, *cloth, start, s.floor.collider ? fixed_floor : std::nullopt);
   const double floor_y =
-      fixed_floor ? *fixed_floor
-                  : double(drape::viewer::frame_bounds(framed, aspect, float(s.output.azimuth), float(s.output.elevation))
-                               .floor_height);
+      fixed_floor
+          ? *fixed_floor
+          : double(drape::viewer::frame_bounds(framed, aspect, float(s.output.azimuth), float(s.output.elevation))
+                       .floor_height);
   if (s.floor.collider) {
     spec.colliders.push_back(drape::render::floor_collider(s, floor_y));
     cloth.emplace(drape::render::make_cloth(s, spec));

@@ -238,7 +238,8 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
     if (is_allowed(name)) continue;
     for (const auto& other : drape::EnumNames<ShapeKind>::values) {
       const ShapeKeys& o = shape_keys(other.value);
-      if (std::count(o.required.begin(), o.required.end(), name) + std::count(o.optional.begin(), o.optional.end(), name))
+      if (std::count(o.required.begin(), o.required.end(), name) +
+          std::count(o.optional.begin(), o.optional.end(), name))
         bad_key(file, key + "." + name,
                 "does not belong to " + a_shape(kind) + " (it is " + a_shape(other.value) + "'s); " + a_shape(kind) +
                     " has the keys " + joined(allowed));
@@ -251,8 +252,7 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
                         a_shape(kind) + " has the keys " + joined(allowed));
   }
   for (const std::string& k : own.required)
-    if (!t.get(k))
-      bad_key(file, key + "." + k, "is missing; " + a_shape(kind) + " needs " + joined(own.required));
+    if (!t.get(k)) bad_key(file, key + "." + k, "is missing; " + a_shape(kind) + " needs " + joined(own.required));
 
   const auto vector = [&](const char* k, std::array<double, 3> fallback = {0, 0, 0}) {
     const toml::node* n = t.get(k);
@@ -272,11 +272,16 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
 
   // The library's names for this shape's keys (its InvalidParameter::parameter()).
   std::map<std::string, std::string> key_of = {
-      {"collider radius", "radius"},           {"collider normal", "normal"},
-      {"collider half extents", "half_extents"}, {"collider rounding", "rounding"},
-      {"collider velocity", "velocity"},       {"collider angular velocity", "angular_velocity"},
-      {"static friction", "static_friction"},  {"kinetic friction", "kinetic_friction"},
-      {"capsule axis", "b"},                    {"collider rotation", "rotation_angle"},
+      {"collider radius", "radius"},
+      {"collider normal", "normal"},
+      {"collider half extents", "half_extents"},
+      {"collider rounding", "rounding"},
+      {"collider velocity", "velocity"},
+      {"collider angular velocity", "angular_velocity"},
+      {"static friction", "static_friction"},
+      {"kinetic friction", "kinetic_friction"},
+      {"capsule axis", "b"},
+      {"collider rotation", "rotation_angle"},
   };
   const auto build = [&]() -> drape::Colliderd {
     switch (kind) {
@@ -300,7 +305,8 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
       fail("scene file '" + file + "': " + key + ".rotation_axis",
            "[" + number_text(axis[0]) + ", " + number_text(axis[1]) + ", " + number_text(axis[2]) + "]",
            "finite and non-zero");
-    if (!std::isfinite(angle)) fail("scene file '" + file + "': " + key + ".rotation_angle", number_text(angle), "finite degrees");
+    if (!std::isfinite(angle))
+      fail("scene file '" + file + "': " + key + ".rotation_angle", number_text(angle), "finite degrees");
     const drape::Mat3<double> rotation =
         Eigen::AngleAxisd(angle * (3.14159265358979323846 / 180.0), axis.normalized()).toRotationMatrix();
     return drape::Colliderd::box(vector("center"), vector("half_extents"), rotation, number("rounding"));
@@ -311,9 +317,9 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
     if (moving) collider.moving(velocity, angular_velocity);
     return collider;
   } catch (const InvalidParameter& e) {
-    // A coefficient not given took the other's value: the error is the typed one's.
+    // A static coefficient not given took the kinetic one's value: the error is the typed one's.
+    // (The library checks the static one first, so a kinetic error always has its own value.)
     if (e.parameter() == "static friction" && !t.get("static_friction")) key_of["static friction"] = "kinetic_friction";
-    if (e.parameter() == "kinetic friction" && !t.get("kinetic_friction")) key_of["kinetic friction"] = "static_friction";
     const auto it = key_of.find(e.parameter());
     if (it == key_of.end()) throw SettingsError("scene file '" + file + "': " + key + ": " + e.what());
     // The value as the file has it (the library writes 17 digits): a number, or [x, y, z].
@@ -579,7 +585,8 @@ bool is_floor(const drape::Colliderd& collider, double floor_height) {
 
 drape::Colliderd floor_collider(const Settings& s, double y) {
   try {
-    return drape::Colliderd::plane({0.0, y, 0.0}, drape::Vec3<double>::UnitY()).set_friction(s.floor.friction, s.floor.friction);
+    return drape::Colliderd::plane({0.0, y, 0.0}, drape::Vec3<double>::UnitY())
+        .set_friction(s.floor.friction, s.floor.friction);
   } catch (const InvalidParameter& e) {
     const bool friction = e.parameter() == "static friction" || e.parameter() == "kinetic friction";
     fail(friction ? "--floor-friction" : "--floor-height", e.value(), e.allowed());
@@ -708,8 +715,8 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
   bind.value("floor-collider", s.floor.collider,
              "the floor the viewer draws is also a plane collider (at the floor's height, see --floor-height)",
              contact);
-  bind.value("floor-friction", s.floor.friction,
-             "static and kinetic friction coefficient of --floor-collider, >= 0", contact);
+  bind.value("floor-friction", s.floor.friction, "static and kinetic friction coefficient of --floor-collider, >= 0",
+             contact);
   bind.value("floor-height", s.floor.height,
              "y of the floor (drawn, and --floor-collider) in m; default: the highest static plane collider facing +y, "
              "else just below the box the camera frames",

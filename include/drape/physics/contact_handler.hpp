@@ -157,7 +157,7 @@ void ContactHandler<Scalar>::bound(Scalar t, Scalar dt) {
 }
 
 template <class Scalar>
-bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar t, Scalar dt,
+bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar /*t*/, Scalar dt,
                                    Scalar offset, Contact& out) const {
   Scalar first = 2;
   int hit = -1;

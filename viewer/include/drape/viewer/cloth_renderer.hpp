@@ -82,7 +82,7 @@ class ClothRenderer {
   unsigned m_program = 0, m_vao = 0, m_dynamic_vbo = 0, m_static_vbo = 0, m_ebo = 0;
   unsigned m_floor_vao = 0, m_floor_vbo = 0;
   unsigned m_solid_vao = 0, m_solid_vbo = 0;  // created by the first set_solids()
-  std::size_t m_solid_capacity = 0;            // floats the solid buffer holds
+  std::size_t m_solid_capacity = 0;           // floats the solid buffer holds
   struct SolidRange {
     int first, count;  // vertices
     bool shadow;
