@@ -49,10 +49,10 @@ Matrix3X<S> random_velocities(int n, S amplitude, unsigned seed) {
   return v;
 }
 
-/// Central differences (step 1e-6) of the total force (springs, gravity, force terms) with respect
-/// to positions (`wrt_x`) or velocities, dense.
+/// Central differences (step 1e-6) of the total force (springs, gravity, force terms) at time `t`
+/// with respect to positions (`wrt_x`) or velocities, dense.
 inline Eigen::MatrixXd fd_jacobian(const Cloth<double>& cloth, const Matrix3X<double>& x, const Matrix3X<double>& v,
-                                   bool wrt_x) {
+                                   bool wrt_x, double t = 0) {
   ForceAssembler<double> forces(cloth, 1);
   Eigen::MatrixXd j(x.size(), x.size());
   Matrix3X<double> fp(3, cloth.node_count()), fm(3, cloth.node_count());
@@ -61,8 +61,8 @@ inline Eigen::MatrixXd fd_jacobian(const Cloth<double>& cloth, const Matrix3X<do
     Matrix3X<double> xp = x, xm = x, vp = v, vm = v;
     (wrt_x ? xp : vp).data()[k] += h;
     (wrt_x ? xm : vm).data()[k] -= h;
-    forces.force(xp, vp, 0, fp);
-    forces.force(xm, vm, 0, fm);
+    forces.force(xp, vp, t, fp);
+    forces.force(xm, vm, t, fm);
     j.col(k) = (flat(fp) - flat(fm)) / (2 * h);
   }
   return j;

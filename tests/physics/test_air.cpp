@@ -50,23 +50,6 @@ void jacobians(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X<do
   dfdv = kv.to_dense();
 }
 
-/// Central differences like test::fd_jacobian, at time t.
-Dense fd_at(const Clothd& cloth, const Matrix3X<double>& x, const Matrix3X<double>& v, bool wrt_x, double t) {
-  ForceAssembler<double> forces(cloth, 1);
-  Dense j(x.size(), x.size());
-  Matrix3X<double> fp(3, cloth.node_count()), fm(3, cloth.node_count());
-  const double h = 1e-6;
-  for (Index k = 0; k < x.size(); ++k) {
-    Matrix3X<double> xp = x, xm = x, vp = v, vm = v;
-    (wrt_x ? xp : vp).data()[k] += h;
-    (wrt_x ? xm : vm).data()[k] -= h;
-    forces.force(xp, vp, t, fp);
-    forces.force(xm, vm, t, fm);
-    j.col(k) = (flat(fp) - flat(fm)) / (2 * h);
-  }
-  return j;
-}
-
 }  // namespace
 
 TEST_CASE("wind field: deterministic per seed, bounded gusts, exact gradient", "[air][wind]") {
@@ -123,8 +106,8 @@ TEST_CASE("linear drag and aerodynamic force: Jacobians against finite differenc
       Dense dfdx, dfdv;
       jacobians(cloth, x, v, JacobianVariant::Exact, dfdx, dfdv);
       INFO(term->name() << ", seed " << seed);
-      CHECK(test::max_relative_error(dfdx, fd_at(cloth, x, v, true, 0.3)) < 1e-6);
-      CHECK(test::max_relative_error(dfdv, fd_at(cloth, x, v, false, 0.3)) < 1e-6);
+      CHECK(test::max_relative_error(dfdx, test::fd_jacobian(cloth, x, v, true, 0.3)) < 1e-6);
+      CHECK(test::max_relative_error(dfdv, test::fd_jacobian(cloth, x, v, false, 0.3)) < 1e-6);
       // A symmetric system gets only the symmetric, damping part of the velocity derivative.
       const Clothd springs_only = cloth_with({});
       Dense sx, sv, px, pv;
