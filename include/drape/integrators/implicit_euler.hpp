@@ -266,10 +266,10 @@ StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state) {
   // m_dv still holds the previous step's solution: the warm start of iterative solvers.
   SolveStatus solved = m_solver->solve(m_system, m_dv);
   int iterations = solved.iterations;
-  for (int solves = 1; solved.ok() && m_dv.allFinite() &&
-                       contacts.revise(m_system, m_dv, state.positions, state.velocities, state.time, dt, row_of_node,
-                                       m_system.constraints) &&
-                       solves < m_options.contact_rounds;
+  for (int solves = 1;
+       solved.ok() && m_dv.allFinite() &&
+       contacts.revise(m_system, m_dv, state.positions, state.velocities, dt, row_of_node, m_system.constraints) &&
+       solves < m_options.contact_rounds;
        ++solves) {
     solved = m_solver->solve(m_system, m_dv);
     iterations += solved.iterations;

@@ -75,8 +75,7 @@ class ContactHandler {
   /// releases pulling contacts and adds nodes whose new path enters a collider. Returns true if
   /// the constraints changed (solve again).
   bool revise(const LinearSystem<Scalar>& system, const VectorX<Scalar>& dv, const ConstRef3X<Scalar>& x,
-              const ConstRef3X<Scalar>& v, Scalar t, Scalar dt, const std::vector<int>& row_of_node,
-              ConstraintFilter<Scalar>& c);
+              const ConstRef3X<Scalar>& v, Scalar dt, const std::vector<int>& row_of_node, ConstraintFilter<Scalar>& c);
 
   /// Both integrators, on the step's result `x_new`, `v_new` from (x, v) at t: the RK2 contact
   /// impulses (nodes not already constrained), friction, and the end-of-step check. Nodes with
@@ -119,8 +118,7 @@ class ContactHandler {
   }
   /// The first collider the path x0 (t) -> x1 (t + dt) reaches within `offset`, as a contact
   /// taken at the start; false if none.
-  bool sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar t, Scalar dt, Scalar offset,
-             Contact& out) const;
+  bool sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar dt, Scalar offset, Contact& out) const;
   void add(const Contact& contact, ConstraintFilter<Scalar>* c, const ConstRef3X<Scalar>& v);
   void release_rows(ConstraintFilter<Scalar>& c);
   /// Coulomb friction on a node in contact (its velocity, in place), and the report's totals.
@@ -157,8 +155,8 @@ void ContactHandler<Scalar>::bound(Scalar t, Scalar dt) {
 }
 
 template <class Scalar>
-bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar /*t*/, Scalar dt,
-                                   Scalar offset, Contact& out) const {
+bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar dt, Scalar offset,
+                                   Contact& out) const {
   Scalar first = 2;
   int hit = -1;
   const auto& colliders = m_cloth->colliders();
@@ -217,7 +215,7 @@ void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstR
     const int row = row_of_node[static_cast<std::size_t>(node)];
     if (row < 0 || c.kind(row) == ConstraintKind::Fixed) continue;  // pinned
     Contact contact;
-    if (!sweep(node, x.col(i), x.col(i) + dt * v.col(i), t, dt, h + margin, contact)) continue;
+    if (!sweep(node, x.col(i), x.col(i) + dt * v.col(i), dt, h + margin, contact)) continue;
     if (contact.normal.dot(v.col(i)) * dt >= contact.target * dt + margin) continue;  // clearly leaving
     contact.row = row;
     add(contact, &c, v);
@@ -226,7 +224,7 @@ void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstR
 
 template <class Scalar>
 bool ContactHandler<Scalar>::revise(const LinearSystem<Scalar>& system, const VectorX<Scalar>& dv,
-                                    const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt,
+                                    const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar dt,
                                     const std::vector<int>& row_of_node, ConstraintFilter<Scalar>& c) {
   if (!active()) return false;
   ++m_report.rounds;
@@ -259,7 +257,7 @@ bool ContactHandler<Scalar>::revise(const LinearSystem<Scalar>& system, const Ve
     if (row < 0 || c.kind(row) != ConstraintKind::Free) continue;
     const Vec3<Scalar> v_new = v.col(i) + dv.template segment<3>(3 * row);
     Contact contact;
-    if (!sweep(node, x.col(i), x.col(i) + dt * v_new, t, dt, h, contact)) continue;
+    if (!sweep(node, x.col(i), x.col(i) + dt * v_new, dt, h, contact)) continue;
     if (contact.normal.dot(v_new) >= contact.target) continue;  // touches but leaves by itself
     contact.row = row;
     add(contact, &c, v);
@@ -313,7 +311,7 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
     if (slot < 0) {
       // Not constrained in a solve (RK2, or a node the rounds left over): an impulse to the target.
       Contact contact;
-      if (!sweep(node, x.col(i), x_new.col(i), t, dt, h, contact)) continue;
+      if (!sweep(node, x.col(i), x_new.col(i), dt, h, contact)) continue;
       if (contact.normal.dot(v_new.col(i)) >= contact.target) continue;  // leaves the surface by itself
       add(contact, nullptr, v);
       ++m_report.after_solve;
