@@ -4,6 +4,7 @@
 // determinism.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -77,8 +78,8 @@ TEST_CASE("wind field: deterministic per seed, bounded gusts, exact gradient", "
     REQUIRE((a.gradient(x, t) - fd).cwiseAbs().maxCoeff() < 1e-7);
   }
   CHECK(max_gust <= 3.0 + 1e-12);
-  CHECK(max_gust > 1.0);          // the gusts are there
-  CHECK(max_difference > 0.5);    // another seed, other gusts
+  CHECK(max_gust > 1.0);        // the gusts are there
+  CHECK(max_difference > 0.5);  // another seed, other gusts
   GustSettings bad;
   bad.amplitude = -1;
   CHECK_THROWS_WITH(WindField<double>(mean, bad), Catch::Contains("'gust amplitude'"));
@@ -146,7 +147,7 @@ TEST_CASE("aerodynamic force on a plate: drag 1/2 rho C_d A u^2 along the normal
   const double drag_normal = 0.5 * 1.2 * 1.1 * area * u * u * 0.5;  // (v.n)^2 = u^2 / 2
   const Vec3<double> drag_part(0, -drag_normal, 0);
   const Vec3<double> lift_part = f45 - drag_part;
-  CHECK(std::abs(lift_part.dot(v45)) < 1e-12);                                  // perpendicular to the flow
+  CHECK(std::abs(lift_part.dot(v45)) < 1e-12);                                             // perpendicular to the flow
   CHECK(lift_part.norm() == Approx(0.5 * 1.2 * 0.7 * area * u * u * 0.5).epsilon(1e-12));  // sin 45 cos 45 = 1/2
   CHECK(lift.norm() > 0);
   // Head-on: lift vanishes (only drag).
@@ -208,13 +209,73 @@ TEST_CASE("a flag in gusty wind stays stable with the implicit step at dt = 1/60
       INFO(to_string(variant) << ", step " << k << ": " << to_string(status.error));
       REQUIRE(status.ok());
     }
-    for (int j = 0; j < spec.ny; ++j) farthest_free_x = std::max(farthest_free_x, s.positions(0, j * spec.nx + spec.nx - 1));
+    for (int j = 0; j < spec.ny; ++j)
+      farthest_free_x = std::max(farthest_free_x, s.positions(0, j * spec.nx + spec.nx - 1));
     INFO(to_string(variant));
     CHECK(max_strain(cloth, s.positions) < 0.3);
     CHECK(s.velocities.cwiseAbs().maxCoeff() < 30);  // bounded, no blow-up
     // It flies: the free edge is blown downwind of the pinned edge, not hanging at x = 0 below it.
     CHECK(farthest_free_x > 1.5);
   }
+}
+
+TEST_CASE("aerodynamic force shares work: colours without a shared node, one pass as two", "[air][threads]") {
+  const Gridd grid(9, 7, 0.1, 0.03);
+  const WindField<double> wind(Vec3<double>(3, -1, 2), strong_gusts());
+  AerodynamicSettings aero;
+  aero.drag_coefficient = 1.2;
+  aero.lift_coefficient = 0.8;
+  const AerodynamicForce<double> force(grid.triangles(), wind, aero);
+  // Every triangle once; within a colour no node twice (threads write a colour's nodes at once).
+  std::vector<std::array<int, 3>> given = grid.triangles(), sorted = force.triangles();
+  std::sort(given.begin(), given.end());
+  std::sort(sorted.begin(), sorted.end());
+  CHECK(given == sorted);
+  const std::vector<int>& begin = force.colour_begin();
+  REQUIRE(begin.size() >= 2);
+  CHECK(begin.size() <= 14);  // greedy on a grid (6 triangles per node): 13 colours at most
+  for (std::size_t c = 0; c + 1 < begin.size(); ++c) {
+    std::vector<int> nodes;
+    for (int k = begin[c]; k < begin[c + 1]; ++k)
+      for (int node : force.triangles()[static_cast<std::size_t>(k)]) nodes.push_back(node);
+    std::sort(nodes.begin(), nodes.end());
+    INFO("colour " << c);
+    CHECK(std::adjacent_find(nodes.begin(), nodes.end()) == nodes.end());
+  }
+  // The fused pass of the implicit assembly gives add_force() and add_derivatives() bit for bit,
+  // on one thread and on a team.
+  ClothSpecd spec;
+  spec.nx = 9;
+  spec.ny = 7;
+  const Matrix3X<double> x = test::jiggled_positions(Clothd(spec), 0.35, 3);
+  const Matrix3X<double> v = test::random_velocities<double>(grid.node_count(), 4.0, 4);
+  struct Recorder final : ForceDerivatives<double> {
+    explicit Recorder(int n) : dfdv(3 * n, 3 * n), dfdx(3 * n, 3 * n) {
+      dfdv.setZero();
+      dfdx.setZero();
+    }
+    bool symmetric() const override { return false; }
+    void add(int a, int b, const Mat3<double>& x_block, const Mat3<double>& v_block) override {
+      dfdx.block<3, 3>(3 * a, 3 * b) += x_block;
+      dfdv.block<3, 3>(3 * a, 3 * b) += v_block;
+    }
+    Dense dfdv, dfdx;
+  };
+  const int n = grid.node_count();
+  Matrix3X<double> f_apart = Matrix3X<double>::Zero(3, n);
+  Recorder apart(n);
+  force.add_force(x, v, 0.4, f_apart);
+  force.add_derivatives(x, v, 0.4, apart);
+  for (int threads : {1, 2}) {
+    INFO(threads << " threads");
+    Matrix3X<double> f_fused = Matrix3X<double>::Zero(3, n);
+    Recorder fused(n);
+    run_in_team(threads, [&] { force.add_force_and_derivatives(x, v, 0.4, f_fused, fused); });
+    CHECK(f_fused == f_apart);
+    CHECK(fused.dfdx == apart.dfdx);
+    CHECK(fused.dfdv == apart.dfdv);
+  }
+  CHECK(f_apart.cwiseAbs().maxCoeff() > 1e-3);
 }
 
 TEST_CASE("air terms keep runs reproducible: 1 and 2 threads agree bit for bit", "[air][threads]") {

@@ -12,9 +12,11 @@
 /// \f$ b \mathrel{+}= \Delta t\, (f + \Delta t\, \partial f/\partial x\, v) \f$ from them.
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "drape/core/team.hpp"
 #include "drape/core/types.hpp"
 
 namespace drape {
@@ -24,8 +26,11 @@ template <class Scalar>
 class ForceDerivatives {
  public:
   /// Adds \f$ \partial f_a / \partial x_b \f$ (`dfdx`, N/m) and \f$ \partial f_a / \partial v_b \f$
-  /// (`dfdv`, N s/m). Either `a == b`, or the pair is one of the term's coupled_nodes().
+  /// (`dfdv`, N s/m). Either `a == b`, or the pair is one of the term's coupled_nodes(). Threads
+  /// may call it at once for different nodes `a` (ForceTerm::shares_work()).
   virtual void add(int a, int b, const Mat3<Scalar>& dfdx, const Mat3<Scalar>& dfdv) = 0;
+  /// add() with \f$ \partial f_a / \partial x_b = 0 \f$ (a block from a velocity dependence only).
+  virtual void add_velocity(int a, int b, const Mat3<Scalar>& dfdv) { add(a, b, Mat3<Scalar>::Zero(), dfdv); }
   /// True when the system must stay symmetric (the Symmetric and Spd Jacobian variants): a term
   /// then adds only the symmetric part of its derivatives it can vouch for (e.g. a damping-like
   /// velocity derivative) and leaves the rest explicit, as the Baraff-Witkin variant does with the
@@ -45,8 +50,8 @@ class ForceTerm {
   virtual std::string name() const = 0;
 
   /// `f += ` the term's force (N) on every node, for positions `x` (m) and velocities `v` (m/s),
-  /// `3 x n`, at time `t` (s). Called by one thread; forces on pinned nodes count toward the
-  /// pins' reaction.
+  /// `3 x n`, at time `t` (s). Called by one thread unless the term shares_work(); forces on pinned nodes count toward
+  /// the pins' reaction.
   virtual void add_force(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f) const = 0;
 
   /// Node pairs (a, b), a != b, whose block add_derivatives() may write. Called once, when an
@@ -62,6 +67,98 @@ class ForceTerm {
 
   /// True if add_derivatives() adds anything (the implicit assembly skips the term otherwise).
   virtual bool has_derivatives() const { return false; }
+
+  /// add_force() and, if has_derivatives(), add_derivatives() at the same (x, v, t): the implicit
+  /// step's assembly calls this. A term overrides it to share work between the two (e.g. to
+  /// evaluate the wind once).
+  virtual void add_force_and_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t,
+                                         Ref3X<Scalar> f, ForceDerivatives<Scalar>& out) const {
+    add_force(x, v, t, f);
+    if (has_derivatives()) add_derivatives(x, v, t, out);
+  }
+
+  /// True if add_force() and add_derivatives() share their work with a team of threads
+  /// (core/team.hpp): every thread of the team calls them with the same arguments; they split the
+  /// work with team_for(), which waits at the end, so that no two threads write the same node's
+  /// force, or the blocks of the same node `a` through ForceDerivatives::add(), at once; and each
+  /// sum is formed in an order that does not depend on the thread count. Outside a team they run
+  /// on the calling thread. Such a term must not throw. Default: false, one thread calls the term.
+  virtual bool shares_work() const { return false; }
 };
+
+/// The force terms of a cloth (ClothSpec::force_terms).
+template <class Scalar>
+using ForceTerms = std::vector<std::shared_ptr<const ForceTerm<Scalar>>>;
+
+/// `f +=` every term's force at (x, v, t): first the terms that do not share work, on the calling
+/// thread (their exceptions reach the caller), then the others on a team of `threads` threads.
+template <class Scalar>
+void add_term_forces(const ForceTerms<Scalar>& terms, int threads, const ConstRef3X<Scalar>& x,
+                     const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f) {
+  bool sharing = false;
+  for (const auto& term : terms) {
+    if (term->shares_work())
+      sharing = true;
+    else
+      term->add_force(x, v, t, f);
+  }
+  if (!sharing) return;
+  run_in_team(threads, [&] {
+    for (const auto& term : terms)
+      if (term->shares_work()) term->add_force(x, v, t, f);
+  });
+}
+
+/// add_term_forces() by the team already running (every thread calls it): the terms that do not
+/// share work on one thread of it. The team waits at the end.
+template <class Scalar>
+void add_term_forces_in_team(const ForceTerms<Scalar>& terms, const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v,
+                             Scalar t, Ref3X<Scalar> f) {
+  team_single([&] {
+    for (const auto& term : terms)
+      if (!term->shares_work()) term->add_force(x, v, t, f);
+  });
+  for (const auto& term : terms)
+    if (term->shares_work()) term->add_force(x, v, t, f);
+}
+
+/// add_term_forces() and every term's derivative blocks through `out`, in one pass per term
+/// (ForceTerm::add_force_and_derivatives()).
+template <class Scalar>
+void add_term_forces_and_derivatives(const ForceTerms<Scalar>& terms, int threads, const ConstRef3X<Scalar>& x,
+                                     const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f,
+                                     ForceDerivatives<Scalar>& out) {
+  bool sharing = false;
+  for (const auto& term : terms) {
+    if (term->shares_work())
+      sharing = true;
+    else
+      term->add_force_and_derivatives(x, v, t, f, out);
+  }
+  if (!sharing) return;
+  run_in_team(threads, [&] {
+    for (const auto& term : terms)
+      if (term->shares_work()) term->add_force_and_derivatives(x, v, t, f, out);
+  });
+}
+
+/// Every term's derivative blocks at (x, v, t) through `out`, in the order of add_term_forces().
+template <class Scalar>
+void add_term_derivatives(const ForceTerms<Scalar>& terms, int threads, const ConstRef3X<Scalar>& x,
+                          const ConstRef3X<Scalar>& v, Scalar t, ForceDerivatives<Scalar>& out) {
+  bool sharing = false;
+  for (const auto& term : terms) {
+    if (!term->has_derivatives()) continue;
+    if (term->shares_work())
+      sharing = true;
+    else
+      term->add_derivatives(x, v, t, out);
+  }
+  if (!sharing) return;
+  run_in_team(threads, [&] {
+    for (const auto& term : terms)
+      if (term->has_derivatives() && term->shares_work()) term->add_derivatives(x, v, t, out);
+  });
+}
 
 }  // namespace drape

@@ -126,8 +126,8 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
             m_x_mid(k, i) = x_mid[k][i];
             m_v_mid(k, i) = v_mid[k][i];
           }
-        m_forces.evaluate_terms(m_x_mid, m_v_mid, state.time + half);
       });
+      m_forces.evaluate_terms_in_team(m_x_mid, m_v_mid, state.time + half);
     }
     // Full step with the midpoint slope.
     m_forces.spring_pass(NodeView<Scalar, 1>{{x_mid[0], x_mid[1], x_mid[2]}},

@@ -9,12 +9,11 @@
 /// \f[ f_d = -k_d A\, |v \cdot n|\, (v \cdot n)\, n = -k_d \frac{|s|\, s}{N \cdot N} N, \f]
 /// drag along the normal, quadratic in the normal relative velocity (a plate moving along its
 /// normal at speed u feels \f$ \tfrac12 \rho C_d A u^2 \f$);
-/// \f[ f_l = -k_l A\, q\, (v \cdot n)\, (n - (n \cdot \hat v)\, \hat v) = -\frac{k_l}{|N|} \Bigl(s q N - \frac{s^2}{q} v\Bigr), \f]
-/// lift perpendicular to the relative wind, in the plane of n and v, of magnitude
-/// \f$ \tfrac12 \rho C_l A q^2 \sin\alpha \cos\alpha \f$ at angle of attack \f$ \alpha \f$ (largest at
-/// 45 degrees, zero for a plate along or across the flow). Each corner receives a third of
-/// \f$ f_d + f_l \f$. Both are independent of the triangle's orientation (N and -N give the same
-/// force).
+/// \f[ f_l = -k_l A\, q\, (v \cdot n)\, (n - (n \cdot \hat v)\, \hat v) = -\frac{k_l}{|N|} \Bigl(s q N - \frac{s^2}{q}
+/// v\Bigr), \f] lift perpendicular to the relative wind, in the plane of n and v, of magnitude \f$ \tfrac12 \rho C_l A
+/// q^2 \sin\alpha \cos\alpha \f$ at angle of attack \f$ \alpha \f$ (largest at 45 degrees, zero for a plate along or
+/// across the flow). Each corner receives a third of \f$ f_d + f_l \f$. Both are independent of the triangle's
+/// orientation (N and -N give the same force).
 ///
 /// Derivatives (exact, tested against finite differences): with \f$ J_v = \partial f/\partial v \f$,
 /// \f$ J_N = \partial f / \partial N \f$, \f$ \partial N/\partial x_a = \tfrac12 [x_c - x_b]_\times \f$
@@ -25,6 +24,7 @@
 /// \f$ -2 k_d |s|\, N N^T / (9\, N \cdot N) \f$ for every corner pair, which is symmetric and damping
 /// (negative semi-definite); the rest stays explicit. The Exact Jacobian receives every block.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -34,6 +34,7 @@
 #include <Eigen/Geometry>
 
 #include "drape/core/force_term.hpp"
+#include "drape/core/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/physics/wind_field.hpp"
 
@@ -58,29 +59,33 @@ class AerodynamicForce final : public ForceTerm<Scalar> {
  public:
   /// `triangles`: node ids of the cloth's triangles (Grid::triangles()).
   /// \throws InvalidParameter as AerodynamicSettings::validate().
-  AerodynamicForce(std::vector<std::array<int, 3>> triangles, WindField<Scalar> wind, const AerodynamicSettings& settings)
+  AerodynamicForce(std::vector<std::array<int, 3>> triangles, WindField<Scalar> wind,
+                   const AerodynamicSettings& settings)
       : m_triangles(std::move(triangles)), m_wind(std::move(wind)) {
     settings.validate();
     m_kd = Scalar(0.5 * settings.density * settings.drag_coefficient);
     m_kl = Scalar(0.5 * settings.density * settings.lift_coefficient);
+    colour_triangles();
   }
 
   std::string name() const override { return "aerodynamic force"; }
   const WindField<Scalar>& wind() const { return m_wind; }
 
   /// The aerodynamic force on one triangle (before it is split between the corners) for corner
-  /// positions and velocities, and (when the pointers are given) its derivatives J_v and J_N.
+  /// positions and its velocity relative to the air, and (when the pointers are given) its
+  /// derivatives J_v and J_N; `drag_velocity_only`: J_v of the drag alone (the symmetric block),
+  /// J_N not computed.
   Vec3<Scalar> triangle_force(const Vec3<Scalar>& xa, const Vec3<Scalar>& xb, const Vec3<Scalar>& xc,
                               const Vec3<Scalar>& v, Mat3<Scalar>* jv = nullptr, Mat3<Scalar>* jn = nullptr,
                               bool drag_velocity_only = false) const;
 
   void add_force(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f) const override {
-    for (const auto& [a, b, c] : m_triangles) {
+    for_each_triangle([&](int a, int b, int c) {
       const Vec3<Scalar> third = triangle_force(x.col(a), x.col(b), x.col(c), relative_velocity(x, v, a, b, c, t)) / 3;
       f.col(a) += third;
       f.col(b) += third;
       f.col(c) += third;
-    }
+    });
   }
 
   std::vector<std::array<int, 2>> coupled_nodes() const override {
@@ -95,10 +100,70 @@ class AerodynamicForce final : public ForceTerm<Scalar> {
   }
 
   bool has_derivatives() const override { return m_kd > 0 || m_kl > 0; }
+  /// One pass over the triangles for both: the wind at each centroid is evaluated once.
+  void add_force_and_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f,
+                                 ForceDerivatives<Scalar>& out) const override {
+    add_derivatives(x, v, t, out, &f);
+  }
+  /// Triangles in colours that share no node: a team takes a colour at a time.
+  bool shares_work() const override { return true; }
+  /// The triangles, sorted by colour: colour c is [colour_begin()[c], colour_begin()[c + 1]).
+  const std::vector<std::array<int, 3>>& triangles() const { return m_triangles; }
+  const std::vector<int>& colour_begin() const { return m_colour_begin; }
   void add_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t,
-                       ForceDerivatives<Scalar>& out) const override;
+                       ForceDerivatives<Scalar>& out) const override {
+    add_derivatives(x, v, t, out, nullptr);
+  }
 
  private:
+  /// Sorts the triangles into colours, greedily in their order: each takes the first colour none
+  /// of its corners has yet. Every node then receives its triangles' shares in colour order, one
+  /// per colour, whatever the thread count.
+  void colour_triangles() {
+    std::vector<std::vector<int>> node_colours;  // the colours each node's triangles have taken
+    std::vector<int> colour(m_triangles.size());
+    int colours = 0;
+    for (std::size_t k = 0; k < m_triangles.size(); ++k) {
+      for (int node : m_triangles[k]) {
+        if (node < 0) detail::fail_argument("triangle corner", detail::to_text(node), ">= 0");
+        if (static_cast<std::size_t>(node) >= node_colours.size()) node_colours.resize(std::size_t(node) + 1);
+      }
+      const auto taken = [&](int c) {
+        for (int node : m_triangles[k]) {
+          const std::vector<int>& used = node_colours[static_cast<std::size_t>(node)];
+          if (std::find(used.begin(), used.end(), c) != used.end()) return true;
+        }
+        return false;
+      };
+      int c = 0;
+      while (taken(c)) ++c;
+      for (int node : m_triangles[k]) node_colours[static_cast<std::size_t>(node)].push_back(c);
+      colour[k] = c;
+      colours = std::max(colours, c + 1);
+    }
+    std::vector<std::array<int, 3>> sorted;
+    sorted.reserve(m_triangles.size());
+    m_colour_begin.assign(1, 0);
+    for (int c = 0; c < colours; ++c) {
+      for (std::size_t k = 0; k < m_triangles.size(); ++k)
+        if (colour[k] == c) sorted.push_back(m_triangles[k]);
+      m_colour_begin.push_back(static_cast<int>(sorted.size()));
+    }
+    m_triangles = std::move(sorted);
+  }
+  /// add_derivatives(), and the force into `*f` when it is given.
+  void add_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t,
+                       ForceDerivatives<Scalar>& out, Ref3X<Scalar>* f) const;
+  /// `body(a, b, c)` for every triangle, a colour at a time, shared by the calling team.
+  template <class Body>
+  void for_each_triangle(Body&& body) const {
+    for (std::size_t c = 0; c + 1 < m_colour_begin.size(); ++c)
+      team_for(m_colour_begin[c], m_colour_begin[c + 1], [&](int k) {
+        const std::array<int, 3>& corners = m_triangles[static_cast<std::size_t>(k)];
+        body(corners[0], corners[1], corners[2]);
+      });
+  }
+
   Vec3<Scalar> relative_velocity(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, int a, int b, int c,
                                  Scalar t) const {
     const Vec3<Scalar> centroid = (x.col(a) + x.col(b) + x.col(c)) / 3;
@@ -111,7 +176,8 @@ class AerodynamicForce final : public ForceTerm<Scalar> {
     return m;
   }
 
-  std::vector<std::array<int, 3>> m_triangles;
+  std::vector<std::array<int, 3>> m_triangles;  // sorted by colour
+  std::vector<int> m_colour_begin;              // colour c: triangles [begin[c], begin[c + 1])
   WindField<Scalar> m_wind;
   Scalar m_kd = 0, m_kl = 0;
 };
@@ -131,9 +197,14 @@ Vec3<Scalar> AerodynamicForce<Scalar>::triangle_force(const Vec3<Scalar>& xa, co
   // Drag: f_d = -k_d |s| s N / (N.N).
   Vec3<Scalar> f = (-m_kd * abs_s * s / nn) * n;
   if (jv) *jv = (-m_kd * 2 * abs_s / nn) * (n * n.transpose());
-  if (drag_velocity_only) return f;
+  if (drag_velocity_only) {
+    jv = nullptr;
+    jn = nullptr;
+  }
   const Mat3<Scalar> id = Mat3<Scalar>::Identity();
-  if (jn) *jn = -m_kd * ((2 * abs_s / nn) * (n * v.transpose()) + (abs_s * s / nn) * id - (2 * abs_s * s / (nn * nn)) * (n * n.transpose()));
+  if (jn)
+    *jn = -m_kd * ((2 * abs_s / nn) * (n * v.transpose()) + (abs_s * s / nn) * id -
+                   (2 * abs_s * s / (nn * nn)) * (n * n.transpose()));
   const Scalar q = v.norm();
   if (m_kl == 0 || !(q > Scalar(1e-12))) return f;
   // Lift: f_l = -(k_l / |N|) (s q N - s^2 v / q).
@@ -141,12 +212,14 @@ Vec3<Scalar> AerodynamicForce<Scalar>::triangle_force(const Vec3<Scalar>& xa, co
   f += (-m_kl / len) * (s * q * n - (s * s / q) * v);
   if (jv) {
     const Mat3<Scalar> d_t1 = n * (q * n.transpose() + (s / q) * v.transpose());
-    const Mat3<Scalar> d_t2 = (2 * s / q) * (v * n.transpose()) + (s * s / q) * id - (s * s / (q * q * q)) * (v * v.transpose());
+    const Mat3<Scalar> d_t2 =
+        (2 * s / q) * (v * n.transpose()) + (s * s / q) * id - (s * s / (q * q * q)) * (v * v.transpose());
     *jv += (-m_kl / len) * (d_t1 - d_t2);
   }
   if (jn) {
     const Mat3<Scalar> d_t1 = (q / len) * (n * v.transpose() + s * id) - (s * q / (len * nn)) * (n * n.transpose());
-    const Mat3<Scalar> d_t2 = (2 * s / (q * len)) * (v * v.transpose()) - (s * s / (q * len * nn)) * (v * n.transpose());
+    const Mat3<Scalar> d_t2 =
+        (2 * s / (q * len)) * (v * v.transpose()) - (s * s / (q * len * nn)) * (v * n.transpose());
     *jn += -m_kl * (d_t1 - d_t2);
   }
   return f;
@@ -154,27 +227,33 @@ Vec3<Scalar> AerodynamicForce<Scalar>::triangle_force(const Vec3<Scalar>& xa, co
 
 template <class Scalar>
 void AerodynamicForce<Scalar>::add_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t,
-                                               ForceDerivatives<Scalar>& out) const {
+                                               ForceDerivatives<Scalar>& out, Ref3X<Scalar>* f) const {
   const bool symmetric = out.symmetric();
   const Mat3<Scalar> zero = Mat3<Scalar>::Zero();
-  for (const auto& [a, b, c] : m_triangles) {
+  for_each_triangle([&](int a, int b, int c) {
     const std::array<int, 3> corner{a, b, c};
     const Vec3<Scalar> vr = relative_velocity(x, v, a, b, c, t);
     Mat3<Scalar> jv, jn;
-    triangle_force(x.col(a), x.col(b), x.col(c), vr, &jv, &jn, symmetric);
+    const Vec3<Scalar> third = triangle_force(x.col(a), x.col(b), x.col(c), vr, &jv, &jn, symmetric) / 3;
+    if (f)
+      for (int corner_node : corner) f->col(corner_node) += third;
     const Mat3<Scalar> dfdv = jv / 9;
-    std::array<Mat3<Scalar>, 3> dfdx{zero, zero, zero};
-    if (!symmetric) {
-      // dN/dx_j = 1/2 [x_{j+2} - x_{j+1}]_x (cyclic); the centroid moves by dx_j / 3.
-      const Mat3<Scalar> wind = m_wind.uniform() ? zero : Mat3<Scalar>(jv * m_wind.gradient((x.col(a) + x.col(b) + x.col(c)) / 3, t) / 3);
-      for (int j = 0; j < 3; ++j) {
-        const Vec3<Scalar> edge = x.col(corner[(j + 2) % 3]) - x.col(corner[(j + 1) % 3]);
-        dfdx[j] = (jn * (Scalar(0.5) * cross_matrix(edge)) - wind) / 3;
-      }
+    if (symmetric) {  // the drag's velocity block only
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out.add_velocity(corner[i], corner[j], dfdv);
+      return;
+    }
+    // dN/dx_j = 1/2 [x_{j+2} - x_{j+1}]_x (cyclic); the centroid moves by dx_j / 3.
+    std::array<Mat3<Scalar>, 3> dfdx;
+    const Mat3<Scalar> wind =
+        m_wind.uniform() ? zero : Mat3<Scalar>(jv * m_wind.gradient((x.col(a) + x.col(b) + x.col(c)) / 3, t) / 3);
+    for (int j = 0; j < 3; ++j) {
+      const Vec3<Scalar> edge = x.col(corner[(j + 2) % 3]) - x.col(corner[(j + 1) % 3]);
+      dfdx[j] = (jn * (Scalar(0.5) * cross_matrix(edge)) - wind) / 3;
     }
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) out.add(corner[i], corner[j], dfdx[j], dfdv);
-  }
+  });
 }
 
 }  // namespace drape

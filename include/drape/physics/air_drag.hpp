@@ -11,6 +11,7 @@
 #include <string>
 
 #include "drape/core/force_term.hpp"
+#include "drape/core/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/physics/wind_field.hpp"
 
@@ -29,18 +30,22 @@ class AirDrag final : public ForceTerm<Scalar> {
   const WindField<Scalar>& wind() const { return m_wind; }
 
   void add_force(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f) const override {
-    for (Index i = 0; i < x.cols(); ++i) f.col(i) -= m_c * (v.col(i) - m_wind.velocity(x.col(i), t));
+    team_for(static_cast<int>(x.cols()), [&](int i) { f.col(i) -= m_c * (v.col(i) - m_wind.velocity(x.col(i), t)); });
   }
 
   bool has_derivatives() const override { return m_c > 0; }
+  /// Each node's force is its own: a team splits the nodes.
+  bool shares_work() const override { return true; }
   void add_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>&, Scalar t,
                        ForceDerivatives<Scalar>& out) const override {
     const Mat3<Scalar> dfdv = -m_c * Mat3<Scalar>::Identity();
     const bool gradient = !out.symmetric() && !m_wind.uniform();
-    for (Index i = 0; i < x.cols(); ++i) {
-      const Mat3<Scalar> dfdx = gradient ? Mat3<Scalar>(m_c * m_wind.gradient(x.col(i), t)) : Mat3<Scalar>::Zero();
-      out.add(int(i), int(i), dfdx, dfdv);
-    }
+    team_for(static_cast<int>(x.cols()), [&](int i) {
+      if (gradient)
+        out.add(i, i, m_c * m_wind.gradient(x.col(i), t), dfdv);
+      else
+        out.add_velocity(i, i, dfdv);
+    });
   }
 
  private:

@@ -12,9 +12,9 @@
 /// 2. `node_pass`: every node sums gravity, its springs' slots and the force terms' share, in
 ///    blocks of `block_nodes` nodes, in a fixed order: results are bitwise identical for any
 ///    thread count.
-/// Force terms are evaluated before phase 2 by `evaluate_terms` (one thread; nothing to do without
-/// terms). The phases are public so that an integrator can fuse its own node updates into phase 2
-/// and run a whole step in one parallel region (rk2.hpp).
+/// Force terms are evaluated before phase 2 by `evaluate_terms` (those that share work on the
+/// team, the others on one thread; nothing to do without terms). The phases are public so that an integrator can fuse
+/// its own node updates into phase 2 and run a whole step in one parallel region (rk2.hpp).
 
 #include <algorithm>
 #include <vector>
@@ -81,9 +81,12 @@ class ForceAssembler {
 
   /// True if the cloth has force terms besides springs and gravity.
   bool has_terms() const { return !m_cloth->force_terms().empty(); }
-  /// The force terms' total at (x, v, time) for the next node_pass (call on one thread, before the
-  /// barrier that precedes node_pass). Does nothing without terms.
+  /// The force terms' total at (x, v, time) for the next node_pass (call outside the team). Does
+  /// nothing without terms.
   void evaluate_terms(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time) const;
+  /// evaluate_terms() by every thread of the running team, before the barrier that precedes
+  /// node_pass; the team waits at the end.
+  void evaluate_terms_in_team(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time) const;
 
   /// Phase 2 for this thread's share of the node blocks: calls `fn(const ForceBlock<Scalar>&)` with
   /// each block's total forces. No barrier at the end.
@@ -135,7 +138,15 @@ void ForceAssembler<Scalar>::evaluate_terms(const ConstRef3X<Scalar>& x, const C
                                             Scalar time) const {
   if (!has_terms()) return;
   m_term_forces.setZero();
-  for (const auto& term : m_cloth->force_terms()) term->add_force(x, v, time, m_term_forces);
+  add_term_forces<Scalar>(m_cloth->force_terms(), threads(), x, v, time, m_term_forces);
+}
+
+template <class Scalar>
+void ForceAssembler<Scalar>::evaluate_terms_in_team(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v,
+                                                    Scalar time) const {
+  if (!has_terms()) return;
+  team_single([&] { m_term_forces.setZero(); });
+  add_term_forces_in_team<Scalar>(m_cloth->force_terms(), x, v, time, Ref3X<Scalar>(m_term_forces));
 }
 
 template <class Scalar>

@@ -13,9 +13,9 @@
 ///    blocks (-C) and the right-hand side, gathered from pass 1.
 /// So one barrier separates the passes (scattering into blocks would need one per spring colour),
 /// and every value is summed in the same order (ascending springs) whatever the thread count.
-/// The cloth's force terms (core/force_term.hpp) are added afterwards, on one thread: their force
-/// into b and their derivative blocks into A (the edge operator, which has no room for them, is
-/// then marked invalid).
+/// The cloth's force terms (core/force_term.hpp) are added afterwards (on the team if they share
+/// work, else on one thread): their force into b and their derivative blocks into A (the edge
+/// operator, which has no room for them, is then marked invalid).
 ///
 /// System (Baraff & Witkin 1998), with per-spring \f$ C = \Delta t D + \Delta t^2 K \f$
 /// (spring_jacobian.hpp):
@@ -307,6 +307,12 @@ class JacobianAssembler<Scalar>::SystemTermBlocks final : public ForceDerivative
     Scalar* values = m_system.matrix.values() + 9 * static_cast<Index>(block);
     for (int q = 0; q < 9; ++q) values[q] -= m_dt * dfdv.data()[q] + dt2 * dfdx.data()[q];
   }
+  void add_velocity(int a, int b, const Mat3<Scalar>& dfdv) override {
+    const int block = m_assembler.term_block(m_system.matrix, a, b);
+    if (block < 0) return;
+    Scalar* values = m_system.matrix.values() + 9 * static_cast<Index>(block);
+    for (int q = 0; q < 9; ++q) values[q] -= m_dt * dfdv.data()[q];
+  }
 
  private:
   const JacobianAssembler& m_assembler;
@@ -341,17 +347,18 @@ template <class Scalar>
 void JacobianAssembler<Scalar>::add_terms(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time,
                                           Scalar dt, JacobianVariant variant, LinearSystem<Scalar>& system) const {
   m_term_forces.setZero();
-  for (const auto& term : m_cloth->force_terms()) term->add_force(x, v, time, m_term_forces);
+  if (m_term_derivatives) {
+    for (int block : m_term_only_blocks) system.matrix.block(block).setZero();
+    SystemTermBlocks blocks(*this, v, dt, system, variant != JacobianVariant::Exact);
+    add_term_forces_and_derivatives<Scalar>(m_cloth->force_terms(), threads(), x, v, time, m_term_forces, blocks);
+    system.edges.invalidate();  // its diagonal is the mass alone
+  } else {
+    add_term_forces<Scalar>(m_cloth->force_terms(), threads(), x, v, time, m_term_forces);
+  }
   for (int r = 0; r < system_nodes(); ++r) {
     const Scalar* f = m_term_forces.data() + 3 * static_cast<Index>(m_node_of_row[static_cast<std::size_t>(r)]);
     for (int k = 0; k < 3; ++k) system.rhs[3 * static_cast<Index>(r) + k] += dt * f[k];
   }
-  if (!m_term_derivatives) return;
-  for (int block : m_term_only_blocks) system.matrix.block(block).setZero();
-  SystemTermBlocks blocks(*this, v, dt, system, variant != JacobianVariant::Exact);
-  for (const auto& term : m_cloth->force_terms())
-    if (term->has_derivatives()) term->add_derivatives(x, v, time, blocks);
-  system.edges.invalidate();  // its diagonal is the mass alone
 }
 
 template <class Scalar>
@@ -503,8 +510,7 @@ void JacobianAssembler<Scalar>::assemble_jacobians(const ConstRef3X<Scalar>& x, 
   });
   if (!m_term_derivatives) return;
   JacobianTermBlocks blocks(*this, dfdx, dfdv, variant != JacobianVariant::Exact);
-  for (const auto& term : m_cloth->force_terms())
-    if (term->has_derivatives()) term->add_derivatives(x, v, time, blocks);
+  add_term_derivatives<Scalar>(m_cloth->force_terms(), threads(), x, v, time, blocks);
 }
 
 }  // namespace drape
