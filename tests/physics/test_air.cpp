@@ -278,6 +278,43 @@ TEST_CASE("aerodynamic force shares work: colours without a shared node, one pas
   CHECK(f_apart.cwiseAbs().maxCoeff() > 1e-3);
 }
 
+TEST_CASE("air in a symmetric system keeps the solvers' edge form: its product is A's", "[air][edges]") {
+  AirSettings air;
+  air.wind = {3, -1, 2};
+  air.gusts = strong_gusts();
+  air.drag = 0.2;
+  air.aerodynamics.drag_coefficient = 1.2;
+  air.aerodynamics.lift_coefficient = 0.8;
+  const Clothd cloth = cloth_with(air_force_terms<double>(air, Gridd(5, 5, 0.1, 0.03).triangles()), true);
+  const Matrix3X<double> x = test::jiggled_positions(cloth, 0.35, 8);
+  const Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 4.0, 9);
+  for (JacobianVariant variant : {JacobianVariant::Spd, JacobianVariant::Symmetric, JacobianVariant::Exact}) {
+    INFO(to_string(variant));
+    JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
+    LinearSystem<double> system = assembler.make_system();
+    assembler.assemble_system(x, v, 0.3, 1.0 / 60, variant, system);
+    if (variant == JacobianVariant::Exact) {  // the aerodynamic position blocks couple corners
+      CHECK_FALSE(system.edges.valid());
+      continue;
+    }
+    REQUIRE(system.edges.valid());
+    CHECK(system.edges.uses_row_blocks());
+    const VectorX<double> p = test::random_velocities<double>(system.block_rows(), 1.0, 10).reshaped();
+    VectorX<double> by_edges(p.size()), by_blocks(p.size());
+    system.edges.multiply(p.data(), by_edges.data());
+    system.matrix.multiply(p.data(), by_blocks.data());
+    CHECK((by_edges - by_blocks).cwiseAbs().maxCoeff() <= 1e-13 * by_blocks.cwiseAbs().maxCoeff());
+    // The air's blocks are in it: without them the product differs.
+    const Clothd still = cloth_with({}, true);
+    JacobianAssembler<double> plain(still, PinTreatment::Eliminate, 1);
+    LinearSystem<double> no_air = plain.make_system();
+    plain.assemble_system(x, v, 0.3, 1.0 / 60, variant, no_air);
+    VectorX<double> without(p.size());
+    no_air.edges.multiply(p.data(), without.data());
+    CHECK((by_edges - without).cwiseAbs().maxCoeff() > 1e-6 * by_blocks.cwiseAbs().maxCoeff());
+  }
+}
+
 TEST_CASE("air terms keep runs reproducible: 1 and 2 threads agree bit for bit", "[air][threads]") {
   if (max_threads() < 2) return;
   ClothSpecd spec;

@@ -2,19 +2,22 @@
 /// \file edge_operator.hpp
 /// A second form of a system matrix whose off-diagonal coupling comes in pairs of rows ("edges",
 /// e.g. the springs of a cloth):
-/// \f[ A = \mathrm{diag}(m_r) \otimes I_3 + \sum_e \begin{bmatrix} C_e & -C_e \\ -C_e & C_e \end{bmatrix}_{(a_e, b_e)},
-/// \f] so that \f$ A p = m \circ p + \sum_e \pm C_e (p_{a_e} - p_{b_e}) \f$: one 3x3 product per edge instead of two
-/// per edge in block CSR, and about a third of the bytes. Solvers use it for the product when it is valid and they run
-/// on one thread (on a team it costs a barrier per colour).
+/// \f[ A = \mathrm{diag}(m_r) \otimes I_3 + \mathrm{blockdiag}(B_r) + \sum_e \begin{bmatrix} C_e & -C_e \\ -C_e & C_e
+/// \end{bmatrix}_{(a_e, b_e)}, \f] so that \f$ A p = m \circ p + \sum_e \pm C_e (p_{a_e} - p_{b_e}) \f$: one 3x3
+/// product per edge instead of two per edge in block CSR, and about a third of the bytes. Solvers use it for the
+/// product when it is valid and they run on one thread (on a team it costs a barrier per colour).
 ///
 /// - Structure (set once): the two block rows of every edge (-1 for an end that is not in the
 ///   system: its unknowns are zero), the edges grouped in colours in which no two edges share a row
 ///   (so threads scatter without races and in a fixed order), the diagonal `m_r` of every row.
 /// - Values (written by whoever assembles the system, e.g. JacobianAssembler): each edge's \f$ C_e \f$
 ///   takes stride() scalars of values(): 9 (column-major) in general, 6 when every \f$ C_e \f$ is
-///   symmetric (lower triangle row by row, block3.hpp), a third fewer bytes. The writer then calls
-///   set_valid(); anything that changes the matrix otherwise must invalidate() it.
+///   symmetric (lower triangle row by row, block3.hpp), a third fewer bytes. Optionally a 3x3 block
+///   \f$ B_r \f$ per row (9 values, column-major; room made by enable_row_blocks()), for terms whose
+///   blocks lie on the diagonal (air drag). The writer then calls set_valid(); anything that
+///   changes the matrix otherwise must invalidate() it.
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -52,11 +55,21 @@ class EdgeOperator {
   /// Room for 9 scalars per edge; see stride().
   Scalar* values() { return m_values.data(); }
   const Scalar* values() const { return m_values.data(); }
-  /// Declares the values current; `symmetric`: they are stored as 6 per edge. An operator without
-  /// structure never becomes valid.
-  void set_valid(bool symmetric) {
+  /// Makes room for the row blocks B_r (zero); they count once set_valid() says so.
+  void enable_row_blocks() { m_row_blocks.assign(9 * m_row_mass.size(), Scalar(0)); }
+  /// B_r of every row (9 values each), empty unless enable_row_blocks() was called.
+  Scalar* row_blocks() { return m_row_blocks.data(); }
+  const Scalar* row_blocks() const { return m_row_blocks.data(); }
+  /// True if the product includes the row blocks.
+  bool uses_row_blocks() const { return m_use_row_blocks; }
+
+  /// Declares the values current; `symmetric`: they are stored as 6 per edge; `row_blocks`: the
+  /// row blocks are part of A (they must have been enabled). An operator without structure never
+  /// becomes valid.
+  void set_valid(bool symmetric, bool row_blocks = false) {
     m_valid = !m_edge_rows.empty() || !m_row_mass.empty();
     m_symmetric = symmetric;
+    m_use_row_blocks = row_blocks && !m_row_blocks.empty();
   }
   void invalidate() { m_valid = false; }
 
@@ -74,9 +87,10 @@ class EdgeOperator {
   void add_edge_products(const Scalar* x, Scalar* y) const;
 
   std::vector<int> m_edge_rows, m_colour_begin;
-  std::vector<Scalar> m_row_mass, m_values;
+  std::vector<Scalar> m_row_mass, m_values, m_row_blocks;
   bool m_valid = false;
   bool m_symmetric = false;
+  bool m_use_row_blocks = false;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -84,11 +98,21 @@ class EdgeOperator {
 template <class Scalar>
 void EdgeOperator<Scalar>::multiply_in_team(const Scalar* x, Scalar* y) const {
   const Scalar* mass = m_row_mass.data();
-  team_for(rows(), [&](int r) {
-    y[3 * r] = mass[r] * x[3 * r];
-    y[3 * r + 1] = mass[r] * x[3 * r + 1];
-    y[3 * r + 2] = mass[r] * x[3 * r + 2];
-  });
+  if (m_use_row_blocks) {
+    const Scalar* b = m_row_blocks.data();
+    team_for(rows(), [&](int r) {
+      const std::array<Scalar, 3> t = block_times(b + 9 * r, x + 3 * r);
+      y[3 * r] = mass[r] * x[3 * r] + t[0];
+      y[3 * r + 1] = mass[r] * x[3 * r + 1] + t[1];
+      y[3 * r + 2] = mass[r] * x[3 * r + 2] + t[2];
+    });
+  } else {
+    team_for(rows(), [&](int r) {
+      y[3 * r] = mass[r] * x[3 * r];
+      y[3 * r + 1] = mass[r] * x[3 * r + 1];
+      y[3 * r + 2] = mass[r] * x[3 * r + 2];
+    });
+  }
   if (m_symmetric)
     add_edge_products<true>(x, y);
   else

@@ -21,8 +21,10 @@
 /// \f$ \partial f_i / \partial v_j = J_v / 9 \f$ and
 /// \f$ \partial f_i / \partial x_j = \tfrac13 (J_N\, \partial N/\partial x_j - \tfrac13 J_v G) \f$.
 /// A symmetric system (Symmetric and Spd Jacobians) receives only the drag's velocity derivative
-/// \f$ -2 k_d |s|\, N N^T / (9\, N \cdot N) \f$ for every corner pair, which is symmetric and damping
-/// (negative semi-definite); the rest stays explicit. The Exact Jacobian receives every block.
+/// \f$ -2 k_d |s|\, N N^T / (9\, N \cdot N) \f$, lumped: each corner's diagonal block gets the sum
+/// of its row, \f$ -2 k_d |s|\, N N^T / (3\, N \cdot N) \f$ (a triangle moving as one is damped
+/// alike; a third of the blocks and no off-diagonal ones); symmetric and damping (negative
+/// semi-definite). The rest stays explicit. The Exact Jacobian receives every block.
 
 #include <algorithm>
 #include <array>
@@ -238,9 +240,9 @@ void AerodynamicForce<Scalar>::add_derivatives(const ConstRef3X<Scalar>& x, cons
     if (f)
       for (int corner_node : corner) f->col(corner_node) += third;
     const Mat3<Scalar> dfdv = jv / 9;
-    if (symmetric) {  // the drag's velocity block only
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) out.add_velocity(corner[i], corner[j], dfdv);
+    if (symmetric) {  // the drag's velocity blocks, lumped on the corners (3 J_v / 9 each)
+      const Mat3<Scalar> lumped = jv / 3;
+      for (int i = 0; i < 3; ++i) out.add_velocity(corner[i], corner[i], lumped);
       return;
     }
     // dN/dx_j = 1/2 [x_{j+2} - x_{j+1}]_x (cyclic); the centroid moves by dx_j / 3.

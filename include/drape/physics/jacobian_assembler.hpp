@@ -14,8 +14,9 @@
 /// So one barrier separates the passes (scattering into blocks would need one per spring colour),
 /// and every value is summed in the same order (ascending springs) whatever the thread count.
 /// The cloth's force terms (core/force_term.hpp) are added afterwards (on the team if they share
-/// work, else on one thread): their force into b and their derivative blocks into A (the edge
-/// operator, which has no room for them, is then marked invalid).
+/// work, else on one thread): their force into b and their derivative blocks into A. Diagonal
+/// blocks (air drag) also go to the edge operator's row blocks, so it stays valid; an off-diagonal
+/// one marks it invalid for the step.
 ///
 /// System (Baraff & Witkin 1998), with per-spring \f$ C = \Delta t D + \Delta t^2 K \f$
 /// (spring_jacobian.hpp):
@@ -24,7 +25,9 @@
 /// \f[ b = \Delta t \Bigl(f + \Delta t \frac{\partial f}{\partial x} v\Bigr), \qquad
 ///     b_a \mathrel{+}= g,\; b_b \mathrel{-}= g, \quad g = \Delta t (f_a + \Delta t K w). \f]
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -235,6 +238,7 @@ JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, const s
         m_term_only_blocks.push_back(block);
       }
   if (!cloth.force_terms().empty()) m_term_forces.setZero(3, n);
+  if (m_term_derivatives) m_edges.enable_row_blocks();  // for terms whose blocks are diagonal
 }
 
 template <class Scalar>
@@ -292,7 +296,12 @@ class JacobianAssembler<Scalar>::SystemTermBlocks final : public ForceDerivative
  public:
   SystemTermBlocks(const JacobianAssembler& assembler, const ConstRef3X<Scalar>& v, Scalar dt,
                    LinearSystem<Scalar>& system, bool symmetric)
-      : m_assembler(assembler), m_v(v), m_dt(dt), m_system(system), m_symmetric(symmetric) {}
+      : m_assembler(assembler),
+        m_v(v),
+        m_dt(dt),
+        m_system(system),
+        m_row_blocks(system.edges.row_blocks()),
+        m_symmetric(symmetric) {}
   bool symmetric() const override { return m_symmetric; }
   void add(int a, int b, const Mat3<Scalar>& dfdx, const Mat3<Scalar>& dfdv) override {
     const int ra = m_assembler.m_row_of_node[static_cast<std::size_t>(a)];
@@ -302,24 +311,44 @@ class JacobianAssembler<Scalar>::SystemTermBlocks final : public ForceDerivative
     const std::array<Scalar, 3> kv = block_times(dfdx.data(), m_v.data() + 3 * static_cast<Index>(b));
     Scalar* rhs = m_system.rhs.data() + 3 * static_cast<Index>(ra);
     for (int k = 0; k < 3; ++k) rhs[k] += dt2 * kv[static_cast<std::size_t>(k)];
-    const int block = m_assembler.term_block(m_system.matrix, a, b);
-    if (block < 0) return;
-    Scalar* values = m_system.matrix.values() + 9 * static_cast<Index>(block);
-    for (int q = 0; q < 9; ++q) values[q] -= m_dt * dfdv.data()[q] + dt2 * dfdx.data()[q];
+    std::array<Scalar, 9> d;  // A -= dt df/dv + dt^2 df/dx
+    for (int q = 0; q < 9; ++q) d[static_cast<std::size_t>(q)] = m_dt * dfdv.data()[q] + dt2 * dfdx.data()[q];
+    subtract(a, b, ra, d);
   }
   void add_velocity(int a, int b, const Mat3<Scalar>& dfdv) override {
+    const int ra = m_assembler.m_row_of_node[static_cast<std::size_t>(a)];
+    if (ra < 0) return;
+    std::array<Scalar, 9> d;  // A -= dt df/dv
+    for (int q = 0; q < 9; ++q) d[static_cast<std::size_t>(q)] = m_dt * dfdv.data()[q];
+    subtract(a, b, ra, d);
+  }
+  /// True if every block the terms wrote lies on the diagonal: the edge form, with its row blocks,
+  /// still describes A.
+  bool edge_form_kept() const { return m_row_blocks && m_diagonal_only.load(std::memory_order_relaxed); }
+
+ private:
+  /// Block (a, b) of A -= d. A diagonal block goes to the edge form's row block too (the terms'
+  /// whole share of it); any other block ends the edge form for this step.
+  void subtract(int a, int b, int row_a, const std::array<Scalar, 9>& d) {
     const int block = m_assembler.term_block(m_system.matrix, a, b);
     if (block < 0) return;
     Scalar* values = m_system.matrix.values() + 9 * static_cast<Index>(block);
-    for (int q = 0; q < 9; ++q) values[q] -= m_dt * dfdv.data()[q];
+    for (std::size_t q = 0; q < 9; ++q) values[q] -= d[q];
+    if (a == b && m_row_blocks) {
+      Scalar* row_block = m_row_blocks + 9 * static_cast<Index>(row_a);
+      for (std::size_t q = 0; q < 9; ++q) row_block[q] -= d[q];
+    } else {
+      m_diagonal_only.store(false, std::memory_order_relaxed);
+    }
   }
 
- private:
   const JacobianAssembler& m_assembler;
   const ConstRef3X<Scalar>& m_v;
   Scalar m_dt;
   LinearSystem<Scalar>& m_system;
+  Scalar* m_row_blocks;
   bool m_symmetric;
+  std::atomic<bool> m_diagonal_only{true};
 };
 
 template <class Scalar>
@@ -349,9 +378,13 @@ void JacobianAssembler<Scalar>::add_terms(const ConstRef3X<Scalar>& x, const Con
   m_term_forces.setZero();
   if (m_term_derivatives) {
     for (int block : m_term_only_blocks) system.matrix.block(block).setZero();
+    if (system.edges.row_blocks()) std::fill_n(system.edges.row_blocks(), 9 * system_nodes(), Scalar(0));
     SystemTermBlocks blocks(*this, v, dt, system, variant != JacobianVariant::Exact);
     add_term_forces_and_derivatives<Scalar>(m_cloth->force_terms(), threads(), x, v, time, m_term_forces, blocks);
-    system.edges.invalidate();  // its diagonal is the mass alone
+    if (blocks.edge_form_kept())
+      system.edges.set_valid(variant != JacobianVariant::Exact, true);
+    else
+      system.edges.invalidate();  // it has no room for off-diagonal term blocks
   } else {
     add_term_forces<Scalar>(m_cloth->force_terms(), threads(), x, v, time, m_term_forces);
   }
