@@ -938,3 +938,274 @@ TEST_CASE(
     fs::remove_all(dir);
   }
 }
+
+// ---- moving pins ([[moving-pins]]) --------------------------------------------------------------------
+
+namespace {
+
+/// The vertices of an OBJ file drape-render wrote (17 significant digits: the state's exact values).
+drape::Matrix3X<double> obj_vertices(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::vector<drape::Vec3<double>> v;
+  while (std::getline(in, line)) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::stringstream ls(line.substr(2));
+    double x = 0, y = 0, z = 0;
+    ls >> x >> y >> z;
+    v.emplace_back(x, y, z);
+  }
+  drape::Matrix3X<double> out(3, drape::Index(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i) out.col(drape::Index(i)) = v[i];
+  return out;
+}
+
+/// Frame k's OBJ in `dir`.
+fs::path obj_frame(const fs::path& dir, int k) {
+  char file[32];
+  std::snprintf(file, sizeof file, "frame_%05d.obj", k);
+  return dir / file;
+}
+
+}  // namespace
+
+TEST_CASE("scenes/curtain.toml runs its whole length; its rings end on their last key positions", "[cli][pins]") {
+  const fs::path scene = scenes_dir / "curtain.toml";
+  REQUIRE(fs::exists(scene));
+  const fs::path dir = fresh_dir("curtain");
+  const Result r = run("--scene " + scene.string() + " --width 32 --height 24 --samples 1 --out " +
+                       (dir / "out").string() + " --save-state " + (dir / "state").string());
+  INFO(r.output);
+  REQUIRE(r.code == 0);  // a failed step would exit with 3
+  REQUIRE_THAT(r.output, Catch::Contains("181 frames") && Catch::Contains("t = 6 s") && Catch::Contains("implicit"));
+  const drape::render::Settings s = parse({"--scene", scene.string()});
+  REQUIRE(s.moving_pins.size() == 11);
+  const drape::State<double> end = drape::load_state<double>((dir / "state").string(), s.cloth.nx * s.cloth.ny);
+  REQUIRE(end.time == Approx(6.0));
+  int held = 0, moved = 0, released = 0;
+  for (const drape::render::PinSpec& pin : s.moving_pins) {
+    const int node = drape::render::pin_node(s, pin);
+    INFO(pin.key << ", node " << node << " at " << end.positions.col(node).transpose());
+    REQUIRE(node == 4 * int(&pin - s.moving_pins.data()));  // the rings: every 4th node of the top row
+    if (pin.key_positions.empty()) {
+      // moving-pins[0] has no key frames: it holds the node where it started.
+      REQUIRE(end.positions.col(node) == drape::Vec3<double>(node * s.cloth.spacing, 0, 0));
+      ++held;
+    } else if (!pin.release) {
+      REQUIRE(end.positions.col(node) == pin.key_positions.back());  // exactly, not just close
+      REQUIRE(end.velocities.col(node) == drape::Vec3<double>::Zero());
+      ++moved;
+    } else {
+      // Released at 4.5 s: the edge swung free of its ring and hangs lower.
+      REQUIRE((end.positions.col(node) - pin.key_positions.back()).norm() > 0.05);
+      REQUIRE(end.positions(1, node) < pin.key_positions.back().y() - 0.01);
+      ++released;
+    }
+  }
+  REQUIRE(held == 1);
+  REQUIRE(moved == 9);
+  REQUIRE(released == 1);
+  // At the end the run's pins (the integrator's, the released ring no longer among them) carry the
+  // whole curtain's weight: 41 x 31 nodes of 0.5 g.
+  const std::vector<std::vector<double>> rows = csv_rows(dir / "out" / "log.csv");
+  REQUIRE(rows.size() == 181);
+  REQUIRE(rows.back()[col_pin_y] == Approx(41 * 31 * 0.0005 * 10).epsilon(0.01));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("[[moving-pins]]: pinned from start, along the key frames, released at release, on step boundaries", "[cli][pins]") {
+  const fs::path dir = fresh_dir("pins_times");
+  // One step per frame; frame k is the state at t = k * 0.01 s (the sum of k steps of 0.01 s,
+  // which is not k / 100 exactly: 0.1 is reached as 0.09999999999999999).
+  std::ofstream(dir / "scene.toml") << R"(
+integrator = "implicit"
+dt = 0.01
+frame-time = 0.01
+frames = 13
+
+[[moving-pins]]                # corner (7, 0), also pinned by --boundary: released at t = 0.1
+node = [7, 0]
+release = 0.1
+
+[[moving-pins]]                # a free node, pinned from t = 0.1 on (before its key time: the first key)
+id = 3
+start = 0.1
+times = [0.2]
+positions = [[0.3, 0.05, 0.0]]
+
+[[moving-pins]]                # corner 0, also pinned by --boundary: this path wins
+node = [0, 0]
+times = [0.0, 0.05]
+positions = [[0.0, 0.0, 0.0], [-0.02, 0.01, 0.0]]
+interpolation = "linear"
+)";
+  const Result r = run(small + "--obj --no-csv --scene " + (dir / "scene.toml").string() + " --out " +
+                       (dir / "out").string() + " --save-state " + (dir / "state").string());
+  INFO(r.output);
+  REQUIRE(r.code == 0);
+  std::vector<drape::Matrix3X<double>> x;
+  for (int k = 0; k <= 12; ++k) x.push_back(obj_vertices(obj_frame(dir / "out", k)));
+  REQUIRE(x[12].cols() == 64);
+  const drape::Vec3<double> corner7(7 * 0.1, 0, 0), key3(0.3, 0.05, 0);  // x = i * spacing
+  // Node 7 is pinned until the step that starts at t = 0.1, then free (the springs pull it in).
+  for (int k = 0; k <= 10; ++k) REQUIRE(x[k].col(7) == corner7);
+  REQUIRE((x[11].col(7) - corner7).norm() > 1e-3);
+  REQUIRE(x[12].col(7) != x[11].col(7));
+  // Node 3 is free until t = 0.1 (it moves with the cloth, 5 cm or more from its key position),
+  // then pinned: the step from 0.1 ends on its path.
+  REQUIRE(x[5].col(3) != x[0].col(3));
+  for (int k = 0; k <= 10; ++k) REQUIRE((x[k].col(3) - key3).norm() > 0.04);
+  REQUIRE(x[11].col(3) == key3);
+  REQUIRE(x[12].col(3) == key3);
+  // Node 0 follows its straight path, whatever --boundary holds: at t = 0.02, 0.4 of the way.
+  REQUIRE(x[2](0, 0) == Approx(-0.008).margin(1e-12));
+  REQUIRE(x[2](1, 0) == Approx(0.004).margin(1e-12));
+  REQUIRE(x[4](0, 0) == Approx(-0.016).margin(1e-12));
+  REQUIRE(x[12].col(0) == drape::Vec3<double>(-0.02, 0.01, 0.0));
+  // The saved state is the last frame's.
+  const drape::State<double> end = drape::load_state<double>((dir / "state").string(), 64);
+  REQUIRE(end.positions == x[12]);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("[[moving-pins]]: a released pin lets its node fall; a pin without key frames holds its node", "[cli][pins]") {
+  const fs::path dir = fresh_dir("pins_release");
+  // Pinned along the edge j = 0 by the --pins flag and [[moving-pins]]; corner (7, 0) released at 0.5 s.
+  std::ofstream(dir / "scene.toml") << "integrator = \"implicit\"\ndt = 0.01\nframe-time = 0.05\nframes = 21\n"
+                                       "[[moving-pins]]\nnode = [7, 0]\nrelease = 0.5\n"
+                                       "[[moving-pins]]\nid = 4\n";  // holds: not in --pins
+  const Result r = run(small + "--pins 0 2 --scene " + (dir / "scene.toml").string() + " --out " +
+                       (dir / "out").string() + " --save-state " + (dir / "state").string());
+  INFO(r.output);
+  REQUIRE(r.code == 0);
+  const drape::State<double> end = drape::load_state<double>((dir / "state").string(), 64);
+  REQUIRE(end.time == Approx(1.0));
+  for (int node : {0, 2, 4}) REQUIRE(end.positions.col(node) == drape::Vec3<double>(node * 0.1, 0, 0));
+  INFO("node 7 at " << end.positions.col(7).transpose());
+  REQUIRE(end.positions(1, 7) < -0.1);  // it fell (the cloth hangs from nodes 0, 2 and 4)
+  // The log's pin reaction is that of the run's pins: at the start (undeformed) the own weight of
+  // the 4 pinned nodes, 0 and 2 of --pins and 4 and 7 of [[moving-pins]].
+  const std::vector<std::vector<double>> rows = csv_rows(dir / "out" / "log.csv");
+  REQUIRE(rows.size() == 21);
+  REQUIRE(rows[0][col_pin_y] == Approx(4 * 0.03 * 10));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("[[moving-pins]]: bad tables, keys and values are errors naming the key", "[cli][pins]") {
+  const fs::path dir = fresh_dir("pins_errors");
+  const std::string ok = "[[moving-pins]]\nnode = [1, 0]\n";  // moving-pins[0]
+  const std::string path = "[[moving-pins]]\nnode = [2, 0]\n";
+  struct Case {
+    std::string toml;
+    std::vector<std::string> expected;
+  };
+  const Case cases[] = {
+      {"[[moving-pins]]\nnode = [8, 0]\n", {"moving-pins[0].node = [8, 0]", "i in [0, 7] and j in [0, 7]"}},
+      {ok + "[[moving-pins]]\nnode = [3, -1]\n", {"moving-pins[1].node = [3, -1]", "j in [0, 7]"}},
+      {"[[moving-pins]]\nid = 64\n", {"moving-pins[0].id = 64", "[0, 63]"}},
+      {"[[moving-pins]]\nnode = [1, 0]\nid = 1\n", {"keys 'moving-pins[0].node' and 'moving-pins[0].id' exclude each other"}},
+      {"[[moving-pins]]\nrelease = 1.0\n", {"key 'moving-pins[0].node' is missing", "id = k"}},
+      {"[[moving-pins]]\nnode = [1]\n", {"key 'moving-pins[0].node' must be an array of 2 integers"}},
+      {"[[moving-pins]]\nnode = [1.5, 0]\n", {"key 'moving-pins[0].node' must be an integer"}},
+      {"[[moving-pins]]\nid = \"three\"\n", {"key 'moving-pins[0].id' must be an integer"}},
+      {ok + path + "times = [0.0, 1.0, 0.5]\npositions = [[0, 0, 0], [1, 0, 0], [2, 0, 0]]\n",
+       {"moving-pins[1].times = [0, 1, 0.5]", "strictly increasing"}},
+      {ok + path + "times = [0.0, nan]\npositions = [[0, 0, 0], [1, 0, 0]]\n", {"moving-pins[1].times = [0, nan]", "finite"}},
+      {ok + path + "times = []\npositions = []\n", {"moving-pins[1].times = []", "at least one key frame"}},
+      {ok + path + "times = [0.0, 1.0]\npositions = [[0, 0, 0]]\n",
+       {"moving-pins[1].positions = 1 positions", "one per key time (2)"}},
+      {ok + path + "times = [0.0, 1.0]\npositions = [[0, 0, 0], [1, 2]]\n",
+       {"key 'moving-pins[1].positions[1]' must be an array of 3 numbers [x, y, z]"}},
+      {ok + path + "times = [0.0]\npositions = [[0, inf, 0]]\n", {"moving-pins[1].positions = a non-finite position"}},
+      {ok + path + "times = [0.0]\npositions = [0, 0, 0]\n", {"key 'moving-pins[1].positions[0]' must be an array of 3"}},
+      {path + "times = [0.0]\n", {"key 'moving-pins[0].positions' is missing"}},
+      {path + "positions = [[0, 0, 0]]\n", {"key 'moving-pins[0].times' is missing"}},
+      {path + "times = [0.0]\npositions = [[0, 0, 0]]\ninterpolation = \"cubic\"\n",
+       {"moving-pins[0].interpolation = 'cubic'", "linear | smooth"}},
+      {path + "interpolation = 1\n", {"key 'moving-pins[0].interpolation' must be a string"}},
+      {path + "start = 1.0\nrelease = 1.0\n", {"moving-pins[0].release = 1", "finite and > start (1 s)"}},
+      {path + "release = 0.0\n", {"moving-pins[0].release = 0", "> start (0 s)"}},
+      {path + "release = nan\n", {"moving-pins[0].release = nan"}},
+      {path + "start = -0.5\n", {"moving-pins[0].start = -0.5", "finite and >= 0"}},
+      {path + "start = \"now\"\n", {"key 'moving-pins[0].start' must be a number"}},
+      {path + "colour = \"red\"\n", {"unknown key 'moving-pins[0].colour'", "node, id, times, positions, interpolation"}},
+      {ok + "[[moving-pins]]\nid = 1\n", {"moving-pins[1].id = 1", "moving-pins[0] names node 1"}},
+      {"moving-pins = [{ id = 1 }, 2]\n", {"key 'moving-pins[1]' must be a table"}},
+      {"pins = 3\n", {"key 'pins' must be an array of integers"}},
+  };
+  for (const Case& c : cases) {
+    INFO(c.toml);
+    const std::string message = parse_error(dir, c.toml, {"--nx", "8", "--ny", "8"});
+    INFO(message);
+    REQUIRE_THAT(message, Catch::Contains("scene.toml"));
+    for (const std::string& e : c.expected) REQUIRE_THAT(message, Catch::Contains(e));
+    // The same through drape-render: exit code 2 before anything is written.
+    const Result r = run(small + "--scene " + (dir / "scene.toml").string() + " --out " + (dir / "out").string());
+    INFO(r.output);
+    REQUIRE(r.code == 2);
+    REQUIRE_THAT(r.output, Catch::Contains(c.expected[0]));
+    REQUIRE(!fs::exists(dir / "out"));
+  }
+  // The node is checked against the grid the flags make.
+  REQUIRE_THAT(parse_error(dir, "[[moving-pins]]\nnode = [7, 0]\n", {"--nx", "6"}),
+               Catch::Contains("moving-pins[0].node = [7, 0]") && Catch::Contains("i in [0, 5]"));
+  REQUIRE(parse_error(dir, "[[moving-pins]]\nnode = [7, 0]\n", {"--nx", "8"}).empty());
+  REQUIRE_THAT(parse_error(dir, "nx = 8\nny = 8\n[[moving-pins]]\nid = 63\n", {"--ny", "7"}),
+               Catch::Contains("moving-pins[0].id = 63") && Catch::Contains("[0, 55]"));
+  // Accepted: every key, node or id, in the file's order.
+  std::ofstream(dir / "scene.toml") << "nx = 8\n[[moving-pins]]\nnode = [2, 1]\ntimes = [0.5, 1.5]\n"
+                                       "positions = [[0.2, 0, 0.1], [0.3, 0.1, 0.1]]\ninterpolation = \"linear\"\n"
+                                       "start = 0.25\nrelease = 2.0\n[[moving-pins]]\nid = 5\n";
+  const drape::render::Settings s = parse({"--scene", (dir / "scene.toml").string()});
+  REQUIRE(s.moving_pins.size() == 2);
+  const drape::render::PinSpec& a = s.moving_pins[0];
+  REQUIRE(a.key == "moving-pins[0]");
+  REQUIRE(drape::render::pin_node(s, a) == 10);
+  REQUIRE(a.start == 0.25);
+  REQUIRE(a.release == 2.0);
+  REQUIRE(a.key_positions.size() == 2);
+  REQUIRE(a.path.position(1.0, drape::Vec3<double>::Zero()).isApprox(drape::Vec3<double>(0.25, 0.05, 0.1)));
+  const drape::render::PinSpec& b = s.moving_pins[1];
+  REQUIRE(drape::render::pin_node(s, b) == 5);
+  REQUIRE(b.path.holds());
+  REQUIRE(b.start == 0);
+  REQUIRE(!b.release);
+  REQUIRE(parse({}).moving_pins.empty());  // none by default
+  // `pins = [ids]` is still the --pins key.
+  std::ofstream(dir / "scene.toml") << "pins = [0, 3]\n";
+  const drape::render::Settings ids = parse({"--scene", (dir / "scene.toml").string()});
+  REQUIRE(ids.moving_pins.empty());
+  REQUIRE(ids.cloth.pinned_nodes == std::vector<int>{0, 3});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("[[moving-pins]]: the fixed camera frames every key position of a path", "[cli][pins]") {
+  const fs::path dir = fresh_dir("pins_camera");
+  // No gravity; both pinned corners carry the cloth 4 m along +x: without their key positions the
+  // fixed camera's box would hold only where the cloth starts.
+  std::ofstream(dir / "scene.toml") << "[[moving-pins]]\nnode = [0, 0]\ntimes = [0.0, 0.4]\n"
+                                       "positions = [[0, 0, 0], [4.0, 0, 0]]\n"
+                                       "[[moving-pins]]\nnode = [7, 0]\ntimes = [0.0, 0.4]\n"
+                                       "positions = [[0.7, 0, 0], [4.7, 0, 0]]\n";
+  const Result r =
+      run("--nx 8 --ny 8 --width 96 --height 72 --samples 1 --quiet --no-csv --no-floor --gravity 0 --frames 3 "
+          "--frame-time 0.2 --integrator implicit --dt 0.01 --camera fixed --elevation 60 --scene " +
+          (dir / "scene.toml").string() + " --out " + (dir / "out").string());
+  INFO(r.output);
+  REQUIRE(r.code == 0);
+  const auto cloth_pixels = [](const drape::viewer::Image& image) {  // red front or blue back: saturated
+    int n = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) {
+        const std::uint8_t* p = image.pixel(x, y);
+        n += std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) > 60;
+      }
+    return n;
+  };
+  const drape::viewer::Image first = drape::viewer::read_png((dir / "out" / "frame_00000.png").string());
+  const drape::viewer::Image last = drape::viewer::read_png((dir / "out" / "frame_00002.png").string());
+  INFO("cloth pixels: first " << cloth_pixels(first) << ", last " << cloth_pixels(last));
+  REQUIRE(cloth_pixels(first) > 20);
+  REQUIRE(cloth_pixels(last) > 20);  // still in view, 4 m further
+  fs::remove_all(dir);
+}

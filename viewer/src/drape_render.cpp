@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -173,12 +174,26 @@ double run_length(const Settings& s) {
   return s.time.duration_given ? s.time.duration : double(s.time.frames - 1) * s.time.frame_time;
 }
 
-/// The box the fixed camera frames: where the cloth can hang from its pins (hanging_bounds), every
-/// collider but the planes over the whole run (a moving one at 9 times), and the floor collider's
-/// height (the cloth can land there). Without colliders: hanging_bounds alone.
+/// The box the fixed camera frames: where the cloth can hang from its pins and the nodes of the
+/// [[moving-pins]] tables (hanging_bounds), every key position of a [[moving-pins]] path and the cloth hanging
+/// below it (as far as below the node at the start), every collider but the planes over the whole
+/// run (a moving one at 9 times), and the floor collider's height (the cloth can land there).
+/// Without colliders and [[moving-pins]]: hanging_bounds alone.
 drape::viewer::Bounds framed_box(const Settings& s, const drape::Clothd& cloth, const drape::Stated& start,
                                  std::optional<double> floor_collider_y) {
-  drape::viewer::Bounds box = drape::viewer::hanging_bounds(cloth, start.positions);
+  std::vector<int> pins = cloth.pins().nodes();
+  for (const drape::render::PinSpec& pin : s.moving_pins) pins.push_back(drape::render::pin_node(s, pin));
+  std::sort(pins.begin(), pins.end());
+  pins.erase(std::unique(pins.begin(), pins.end()), pins.end());
+  drape::viewer::Bounds box = drape::viewer::hanging_bounds(cloth, start.positions, pins);
+  const float lowest = box.min.y();
+  for (const drape::render::PinSpec& pin : s.moving_pins) {
+    const float node_y = float(start.positions(1, drape::render::pin_node(s, pin)));
+    for (const drape::Vec3<double>& p : pin.key_positions) {
+      box.extend(p.cast<float>());
+      box.extend(Eigen::Vector3f(float(p.x()), lowest + (float(p.y()) - node_y), float(p.z())));
+    }
+  }
   for (const drape::Colliderd& c : cloth.colliders()) {
     const std::vector<Eigen::Vector3f> local = drape::viewer::local_collider_mesh(c);
     const int samples = c.motion().is_static() ? 1 : 9;
@@ -193,6 +208,42 @@ drape::viewer::Bounds framed_box(const Settings& s, const drape::Clothd& cloth, 
   }
   return box;
 }
+
+/// The [[moving-pins]] tables over time: each node is pinned to its path once the run reaches its start
+/// and released at its release time, between steps (the integrator's PinSet).
+class PinSchedule {
+ public:
+  explicit PinSchedule(const Settings& s) {
+    for (const drape::render::PinSpec& pin : s.moving_pins)
+      m_pins.push_back({&pin, drape::render::pin_node(s, pin), Stage::Waiting});
+  }
+
+  /// Pins and releases what is due at `t`, the start of the next step (or of the run): a time
+  /// within 1e-9 dt counts as reached, so events on step boundaries happen at that step whatever
+  /// the rounding of the accumulated time.
+  void apply(double t, double dt, drape::PinSet<double>& pins) {
+    const double reached = t + 1e-9 * dt;
+    for (Entry& e : m_pins) {
+      if (e.stage == Stage::Waiting && e.spec->start <= reached) {
+        pins.pin(e.node, e.spec->path);
+        e.stage = Stage::Pinned;
+      }
+      if (e.stage == Stage::Pinned && e.spec->release && *e.spec->release <= reached) {
+        pins.release(e.node);
+        e.stage = Stage::Released;
+      }
+    }
+  }
+
+ private:
+  enum class Stage : std::uint8_t { Waiting, Pinned, Released };
+  struct Entry {
+    const drape::render::PinSpec* spec;
+    int node;
+    Stage stage;
+  };
+  std::vector<Entry> m_pins;
+};
 
 /// A run: the simulation, the renderer and the outputs, and the two ways of stepping through time.
 class Run {
@@ -215,7 +266,9 @@ class Run {
         m_progress(!s.output.quiet && ::isatty(STDERR_FILENO)),
         m_t0(m_state.time),
         m_previous_sim(m_t0),
-        m_forces(cloth, 1) {
+        m_forces(cloth, 1),
+        m_pin_schedule(s) {
+    m_pin_schedule.apply(m_state.time, m_integrator->dt(), m_integrator->pins());  // those due at the start
     m_fixed_camera.floor_height = float(floor_y);
     m_renderer.set_camera(m_fixed_camera);
     // The colliders' meshes; a plane at the floor's height facing +y is the floor itself.
@@ -289,6 +342,7 @@ class Run {
 
   /// One step; a failed one ends the run (exit code 3), keeping the frames written.
   void step(FrameSteps& done) {
+    m_pin_schedule.apply(m_state.time, m_integrator->dt(), m_integrator->pins());
     const drape::StepStatus status = m_integrator->step(m_state);
     if (!status) {
       m_progress.finish();
@@ -331,13 +385,15 @@ class Run {
 
   /// The pins' reaction on the cloth (drape::pin_reaction, with one assembler for the run) and the
   /// power of the force terms besides springs and gravity (the air's), sum of f . v (W).
+  /// The pins are the run's at the frame (the integrator's PinSet: with [[moving-pins]], those pinned now).
   std::pair<double, double> pin_reaction_y_and_air_power() {
-    if (m_cloth.pins().nodes().empty() && m_cloth.force_terms().empty()) return {0.0, 0.0};
+    const std::vector<int>& pinned = m_integrator->pins().nodes();
+    if (pinned.empty() && m_cloth.force_terms().empty()) return {0.0, 0.0};
     m_force.resize(3, m_cloth.node_count());
     double pin_y = 0;
-    if (!m_cloth.pins().nodes().empty()) {
+    if (!pinned.empty()) {
       m_forces.force(m_state.positions, m_state.velocities, m_state.time, m_force);
-      for (int p : m_cloth.pins().nodes()) pin_y -= m_force(1, p);
+      for (int p : pinned) pin_y -= m_force(1, p);
     }
     double power = 0;
     if (!m_cloth.force_terms().empty()) {
@@ -440,6 +496,7 @@ class Run {
   std::vector<Solid> m_solids;
   std::vector<drape::viewer::SolidMesh> m_meshes;
   drape::Matrix3X<double> m_framed;  // nodes and colliders for the follow camera
+  PinSchedule m_pin_schedule;        // the [[moving-pins]] tables, applied before each step
 };
 
 /// Runs ffmpeg on the frames; true on success.

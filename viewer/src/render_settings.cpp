@@ -347,6 +347,108 @@ void apply_colliders(const toml::node& node, Settings& s) {
   }
 }
 
+// ---- moving pins ([[moving-pins]] tables) ------------------------------------------------------------
+
+const std::vector<std::string>& pin_table_keys() {
+  static const std::vector<std::string> keys = {"node",          "id",    "times",  "positions",
+                                                "interpolation", "start", "release"};
+  return keys;
+}
+
+/// "[a, b, c]" for messages.
+std::string list_text(const std::vector<double>& values) {
+  std::string text;
+  for (double v : values) text += (text.empty() ? "" : ", ") + number_text(v);
+  return "[" + text + "]";
+}
+
+/// One [[moving-pins]] table (`key` is "moving-pins[k]"): checks its keys, reads its values and builds the path
+/// with the library's PinPath::keyframes; every error names the key, e.g. moving-pins[1].times. The node
+/// is checked against the grid later (pin_node(), from validate()): flags may change nx and ny.
+PinSpec pin_from_table(const toml::table& t, const std::string& key, const std::string& file) {
+  const std::vector<std::string>& allowed = pin_table_keys();
+  for (const auto& [k, node] : t) {
+    const std::string name(k.str());
+    if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+      throw SettingsError("scene file '" + file + "': unknown key '" + key + "." + name + "'; a pin has the keys " +
+                          joined(allowed));
+  }
+  const std::string where = "scene file '" + file + "': " + key;
+  PinSpec pin;
+  pin.key = key;
+  const toml::node* node = t.get("node");
+  const toml::node* id = t.get("id");
+  if (node && id)
+    throw SettingsError(where + ": keys '" + key + ".node' and '" + key + ".id' exclude each other; give one");
+  if (!node && !id)
+    bad_key(file, key + ".node", "is missing; a pin names its node with node = [i, j] or id = k (k = j*nx + i)");
+  if (node) {
+    const std::vector<int> ij = from_toml<std::vector<int>>(*node, key + ".node", file);
+    if (ij.size() != 2) bad_key(file, key + ".node", "must be an array of 2 integers [i, j]");
+    pin.grid_node = std::array<int, 2>{ij[0], ij[1]};
+  } else {
+    pin.id = from_toml<int>(*id, key + ".id", file);
+  }
+
+  // Key frames: times and positions together, or neither (the pin holds the node where it is).
+  const toml::node* times_node = t.get("times");
+  const toml::node* positions_node = t.get("positions");
+  if (times_node && !positions_node)
+    bad_key(file, key + ".positions", "is missing; key frames need times and positions, one [x, y, z] per time");
+  if (positions_node && !times_node)
+    bad_key(file, key + ".times", "is missing; key frames need times and positions, one [x, y, z] per time");
+  drape::Interpolation interpolation = drape::Interpolation::Smooth;
+  if (const toml::node* n = t.get("interpolation")) {
+    const std::string name = from_toml<std::string>(*n, key + ".interpolation", file);
+    if (!drape::try_parse(name, interpolation))
+      fail(where + ".interpolation", "'" + name + "'", drape::joined_names<drape::Interpolation>(" | "));
+  }
+  if (times_node) {
+    const std::vector<double> times = from_toml<std::vector<double>>(*times_node, key + ".times", file);
+    const toml::array* list = positions_node->as_array();
+    if (!list) bad_key(file, key + ".positions", "must be an array of positions [[x, y, z], ...]");
+    std::vector<drape::Vec3<double>> positions;
+    for (std::size_t k = 0; k < list->size(); ++k)
+      positions.push_back(
+          vec3(from_toml<std::array<double, 3>>((*list)[k], key + ".positions[" + std::to_string(k) + "]", file)));
+    try {
+      pin.path = drape::PinPath<double>::keyframes(times, positions, interpolation);
+    } catch (const InvalidParameter& e) {
+      // The library's names for the keys (its InvalidParameter::parameter()).
+      if (e.parameter() == "pin path times") fail(where + ".times", list_text(times), e.allowed());
+      if (e.parameter() == "pin path positions") fail(where + ".positions", e.value(), e.allowed());
+      if (e.parameter() == "interpolation") fail(where + ".interpolation", e.value(), e.allowed());
+      throw SettingsError(where + ": " + e.what());
+    }
+    pin.key_positions = positions;
+  }
+
+  if (const toml::node* n = t.get("start")) {
+    pin.start = from_toml<double>(*n, key + ".start", file);
+    if (!(std::isfinite(pin.start) && pin.start >= 0))
+      fail(where + ".start", number_text(pin.start), "finite and >= 0 (s)");
+  }
+  if (const toml::node* n = t.get("release")) {
+    const double release = from_toml<double>(*n, key + ".release", file);
+    if (!(std::isfinite(release) && release > pin.start))
+      fail(where + ".release", number_text(release), "finite and > start (" + number_text(pin.start) + " s)");
+    pin.release = release;
+  }
+  return pin;
+}
+
+/// The scene file's [[moving-pins]]: an array of tables, appended to the settings' moving pins.
+void apply_pin_tables(const toml::node& node, Settings& s) {
+  const toml::array* list = node.as_array();
+  if (!list) bad_key(s.scene, "moving-pins", "must be an array of tables ([[moving-pins]] with a node each)");
+  for (std::size_t k = 0; k < list->size(); ++k) {
+    const std::string key = "moving-pins[" + std::to_string(k) + "]";
+    const toml::table* table = (*list)[k].as_table();
+    if (!table) bad_key(s.scene, key, "must be a table ([[moving-pins]] with node = [i, j] or id = k)");
+    s.moving_pins.push_back(pin_from_table(*table, key, s.scene));
+  }
+}
+
 /// --sphere X Y Z R (scene-file key `sphere = [x, y, z, r]`), after the file's colliders.
 void add_sphere(Settings& s) {
   if (s.sphere.empty()) return;
@@ -461,7 +563,7 @@ std::string key_in_table(const std::string& key) {
       hint = " (did you mean " + key_in_table(other) + "?)";
   throw SettingsError("scene file '" + file + "': unknown key '" + key + "'" + hint +
                       "; the keys are the flag names of --help without '--', the air's in the tables [air] and "
-                      "[air.gusts], the colliders' in tables [[colliders]]");
+                      "[air.gusts], the colliders' in tables [[colliders]], the moving pins' in tables [[moving-pins]]");
 }
 
 /// Applies the keys of a scene-file table (`prefix` "" for the top level, "air." for [air], ...)
@@ -472,6 +574,10 @@ void apply_table(const toml::table& table, const std::string& prefix, std::map<s
     const std::string key = prefix + std::string(k.str());
     if (key == "colliders") {  // [[colliders]]: no flag
       apply_colliders(node, s);
+      continue;
+    }
+    if (key == "moving-pins") {  // [[moving-pins]]: no flag
+      apply_pin_tables(node, s);
       continue;
     }
     if (is_table_key(key)) {
@@ -526,6 +632,18 @@ void validate(const Settings& s, const FileKeys& from_file) {
   });
   checked([&] { s.realtime.validate(); });
   checked([&] { s.air.validate(); }, from_file);
+  // The [[moving-pins]] tables were checked as they were read; here their nodes against the grid (flags
+  // may have changed nx and ny), one table per node.
+  std::map<int, const PinSpec*> pinned;
+  for (const PinSpec& pin : s.moving_pins) {
+    const int node = pin_node(s, pin);
+    const auto [it, added] = pinned.emplace(node, &pin);
+    if (!added)
+      fail("scene file '" + s.scene + "': " + pin.key + (pin.grid_node ? ".node" : ".id"),
+           pin.grid_node ? "[" + std::to_string((*pin.grid_node)[0]) + ", " + std::to_string((*pin.grid_node)[1]) + "]"
+                         : std::to_string(pin.id),
+           "a node no other [[moving-pins]] table names (" + it->second->key + " names node " + std::to_string(node) + ")");
+  }
   // The colliders were checked as they were read; here the floor's settings. That no collider
   // touches a pinned node at the start is drape::Cloth's check, when drape-render builds the cloth
   // (make_cloth(), before anything runs): it needs the whole grid.
@@ -607,6 +725,23 @@ drape::Clothd make_cloth(const Settings& s, const drape::ClothSpecd& spec) {
   }
 }
 
+int pin_node(const Settings& s, const PinSpec& pin) {
+  const int nx = s.cloth.nx, ny = s.cloth.ny;
+  const std::string where = "scene file '" + s.scene + "': " + pin.key;
+  if (pin.grid_node) {
+    const auto [i, j] = *pin.grid_node;
+    if (i < 0 || i >= nx || j < 0 || j >= ny)
+      fail(where + ".node", "[" + std::to_string(i) + ", " + std::to_string(j) + "]",
+           "a node of the grid: [i, j] with i in [0, " + std::to_string(nx - 1) + "] and j in [0, " +
+               std::to_string(ny - 1) + "] (nx = " + std::to_string(nx) + ", ny = " + std::to_string(ny) + ")");
+    return j * nx + i;
+  }
+  if (pin.id < 0 || pin.id >= nx * ny)
+    fail(where + ".id", std::to_string(pin.id),
+         "a node of the grid: an id in [0, " + std::to_string(nx * ny - 1) + "] (id = j*nx + i)");
+  return pin.id;
+}
+
 std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(const Settings& s) {
   s.air.validate();
   if (!s.air.active()) return {};
@@ -652,7 +787,9 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
       "1: corner (0,0) pinned; 2: corners (0,0) and (nx-1,0) pinned", sim);
   CLI::Option* pins = bind.converted<std::vector<int>>(
       "pins", "", [&c](const std::vector<int>& nodes) { c.pinned_nodes = nodes; },
-      "pinned node ids (id = j*nx + i), replaces --boundary (scene file: pins = [] pins nothing)", sim);
+      "pinned node ids (id = j*nx + i), replaces --boundary (scene file: pins = [] pins nothing; moving pins: "
+      "[[moving-pins]] tables, docs/viewer.md)",
+      sim);
   pins->expected(1, 1 << 30);
   bind.value("nx", c.nx, "nodes along x, [2, 10000]", sim);
   bind.value("ny", c.ny, "nodes along z, [2, 10000]", sim);

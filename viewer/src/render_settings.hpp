@@ -3,8 +3,10 @@
 // the real-time driver's settings, the air), which the library validates, plus the viewer's time
 // line and output. Every field is a command-line flag and a key of a TOML scene file: the same
 // name at the top level, except the air's, which are keys of the tables [air] and [air.gusts].
-// The colliders are tables [[colliders]] of the scene file (no flag), plus --sphere and the floor.
+// The colliders are tables [[colliders]] of the scene file (no flag), plus --sphere and the floor;
+// moving pins are tables [[moving-pins]] of the scene file (no flag).
 
+#include <array>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -15,6 +17,7 @@
 
 #include "drape/core/cloth.hpp"
 #include "drape/core/enum_names.hpp"
+#include "drape/core/pin_path.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/integrator.hpp"
@@ -68,6 +71,20 @@ struct Floor {
   bool height_given = false;
 };
 
+/// A table [[moving-pins]] of the scene file: a node pinned from `start` on, following `path`, released at
+/// `release`. Added to the cloth's pins (--boundary, --pins); for a node that is both, this path
+/// wins from `start` on and `release` frees it. Times are absolute simulated times (s).
+struct PinSpec {
+  std::string key;                              ///< "moving-pins[k]", for error messages
+  std::optional<std::array<int, 2>> grid_node;  ///< node = [i, j]; unset: `id`
+  int id = -1;                                  ///< id = k (= j*nx + i)
+  /// Key frames (times, positions, interpolation), or holding the node where it is when pinned.
+  drape::PinPath<double> path;
+  std::vector<drape::Vec3<double>> key_positions;  ///< the key frames' positions (m), for the camera
+  double start = 0;                                ///< s: pinned from this time on
+  std::optional<double> release;                   ///< s: freed at this time, > start
+};
+
 struct Settings {
   std::string scene;       ///< TOML file with the same keys as the flags
   std::string load_state;  ///< start from this saved state
@@ -86,6 +103,8 @@ struct Settings {
   std::vector<std::string> collider_keys;
   std::vector<double> sphere;  ///< --sphere X Y Z R; empty if not given
   Floor floor;
+  /// The [[moving-pins]] tables of the scene file, in order (checked against the grid by validate()).
+  std::vector<PinSpec> moving_pins;
 
   TimeLine time;
   Output output;
@@ -122,6 +141,10 @@ drape::Colliderd floor_collider(const Settings& s, double y);
 /// touching a pinned node (`colliders[k]`) names the key or flag that made collider k.
 /// \throws SettingsError.
 drape::Clothd make_cloth(const Settings& s, const drape::ClothSpecd& spec);
+
+/// The node id of `pin` in the grid of `s.cloth` (id = j*nx + i).
+/// \throws SettingsError naming moving-pins[k].node or moving-pins[k].id when the grid has no such node.
+int pin_node(const Settings& s, const PinSpec& pin);
 
 /// The executable path of `program` on PATH, or "" if it is not installed.
 std::string find_on_path(const std::string& program);

@@ -35,15 +35,14 @@ struct Camera {
   float scene_radius = 1;  ///< radius of the framed box's bounding sphere
 };
 
-/// The box a cloth stays in while it falls and hangs from its pins: the bounding box of `start`,
-/// extended down to where each node would hang straight below its nearest pin (5% stretch
+/// The box a cloth stays in while it falls and hangs from the nodes `pins`: the bounding box of
+/// `start`, extended down to where each node would hang straight below its nearest pin (5% stretch
 /// allowed), and sideways by what the cloth's longer side exceeds the pins' horizontal spread
 /// (a cloth hanging from one corner spreads either side of it). Without pins: `start`'s box.
 template <class Scalar>
-Bounds hanging_bounds(const Cloth<Scalar>& cloth, const Matrix3X<Scalar>& start) {
+Bounds hanging_bounds(const Cloth<Scalar>& cloth, const Matrix3X<Scalar>& start, const std::vector<int>& pins) {
   Bounds b;
   for (Index i = 0; i < start.cols(); ++i) b.extend(start.col(i).template cast<float>());
-  const std::vector<int>& pins = cloth.pins().nodes();
   if (pins.empty()) return b;
   Bounds pin_box;
   for (int p : pins) pin_box.extend(start.col(p).template cast<float>());
@@ -66,6 +65,12 @@ Bounds hanging_bounds(const Cloth<Scalar>& cloth, const Matrix3X<Scalar>& start)
   b.extend(Eigen::Vector3f(pin_box.min.x() - side, lowest, pin_box.min.z() - side));
   b.extend(Eigen::Vector3f(pin_box.max.x() + side, pin_box.max.y(), pin_box.max.z() + side));
   return b;
+}
+
+/// hanging_bounds() for the cloth's own pins.
+template <class Scalar>
+Bounds hanging_bounds(const Cloth<Scalar>& cloth, const Matrix3X<Scalar>& start) {
+  return hanging_bounds(cloth, start, cloth.pins().nodes());
 }
 
 /// Where a camera looks from: the unit vector from the target to the eye for `azimuth_deg`
