@@ -1,9 +1,11 @@
 /// \file bench_environment.cpp
 /// The cost of the environment in the implicit step (dt = 1/60, cg + multigrid, Spd, 2 threads):
-/// the hanging cloth alone (`env=none`), with air drag, gusty wind and per-triangle aerodynamics
-/// (`env=air`), with 8 analytic colliders out of its reach (`env=colliders8`: the detection cost
-/// alone) and with one of them under the falling cloth (`env=colliders8_touching`: contacts in the
-/// solve). Each next to `env=none` in the same run, so the overhead is a ratio.
+/// the hanging cloth alone (`env=none`); in air: linear drag in a steady wind (`env=drag`), the
+/// same in gusts (`env=drag_gusts`), per-triangle aerodynamic drag and lift in a steady wind
+/// (`env=aerodynamic`), and all of them in gusts (`env=air`); with 8 analytic colliders out of its
+/// reach (`env=colliders8`: the detection cost alone) and with one of them under the falling cloth
+/// (`env=colliders8_touching`: contacts in the solve). Each next to `env=none` in the same run, so
+/// the overhead is a ratio.
 
 #include <algorithm>
 #include <map>
@@ -22,19 +24,22 @@ namespace {
 using drape::Collider;
 using drape::Vec3;
 
-enum class Environment { None, Air, Colliders, Touching };
+enum class Environment { None, Drag, DragGusts, Aerodynamic, Air, Colliders, Touching };
 
 /// The benchmark scene's spec at size n with the environment `env`.
 drape::ClothSpec<double> environment_spec(int n, Environment env) {
   drape::ClothSpec<double> spec = scene_spec(n);
   const double side = (n - 1) * spec.spacing;  // the cloth hangs in x-y from y = 0, x in [0, side]
-  if (env == Environment::Air) {
+  if (env == Environment::Drag || env == Environment::DragGusts || env == Environment::Aerodynamic ||
+      env == Environment::Air) {
     drape::AirSettings air;
     air.wind = {4, 0, 3};
-    air.gusts.amplitude = 2;
-    air.drag = 0.005;
-    air.aerodynamics.drag_coefficient = 1.0;
-    air.aerodynamics.lift_coefficient = 0.3;
+    if (env == Environment::DragGusts || env == Environment::Air) air.gusts.amplitude = 2;
+    if (env != Environment::Aerodynamic) air.drag = 0.005;
+    if (env == Environment::Aerodynamic || env == Environment::Air) {
+      air.aerodynamics.drag_coefficient = 1.0;
+      air.aerodynamics.lift_coefficient = 0.3;
+    }
     const drape::Grid<double> grid(n, n, spec.spacing, spec.node_mass);
     spec.force_terms = drape::air_force_terms<double>(air, grid.triangles());
   }
@@ -65,6 +70,9 @@ drape::ClothSpec<double> environment_spec(int n, Environment env) {
 const char* label(Environment env) {
   switch (env) {
     case Environment::None: return "none";
+    case Environment::Drag: return "drag";
+    case Environment::DragGusts: return "drag_gusts";
+    case Environment::Aerodynamic: return "aerodynamic";
     case Environment::Air: return "air";
     case Environment::Colliders: return "colliders8";
     case Environment::Touching: return "colliders8_touching";
@@ -104,7 +112,8 @@ void environment_step(benchmark::State& st, Environment env) {
 }
 
 const bool registered = [] {
-  for (const Environment env : {Environment::None, Environment::Air, Environment::Colliders, Environment::Touching})
+  for (const Environment env : {Environment::None, Environment::Drag, Environment::DragGusts, Environment::Aerodynamic,
+                                Environment::Air, Environment::Colliders, Environment::Touching})
     sized(benchmark::RegisterBenchmark((std::string("environment_step/drape/env=") + label(env)).c_str(),
                                        environment_step, env),
           two, benchmark::kMillisecond, 129, headline_min_time);
