@@ -16,7 +16,12 @@
 /// - Threads: every operation runs inside the caller's team, split by rows; levels smaller than
 ///   `min_team_rows` run on one thread. Every row sums its terms in a fixed order: results do not
 ///   depend on scheduling. After analyze(), nothing allocates.
-/// - Constraints: the cycle works on the whole matrix; CG filters its output (pcg.hpp).
+/// - Constraints (pins under the filter, moving pins, contacts): the hierarchy is built from the
+///   filtered operator \f$ S A S + I - S \f$ (the matrix CG's filtered iteration works with), so
+///   constrained rows are identity rows on the finest level and their coupling is gone from the
+///   coarse operators; CG filters the cycle's output (pcg.hpp). Built from A itself, the cycle
+///   kept correcting constrained unknowns through the coarse levels: 94 instead of ~16 CG
+///   iterations per step with moving pins, 2-3x with contacts (bench/analysis.md).
 
 #include <algorithm>
 #include <atomic>
@@ -65,6 +70,8 @@ class MultigridPreconditioner final : public Preconditioner<Scalar> {
   };
 
   const BlockSparseMatrix<Scalar>& matrix(int l) const { return l == 0 ? *m_fine : m_hierarchy.matrix(l); }
+  /// m_filtered = S A S + I - S for `system`'s constraints (the team shares the rows).
+  void filter_finest(const LinearSystem<Scalar>& system);
   /// Level l's loops are shared by the team, or run by the one thread that calls them.
   bool team_level(int l) const { return m_hierarchy.rows(l) >= m_settings.min_team_rows; }
   const Scalar* rhs(int l) const { return l == 0 ? m_r_in : m_vectors[static_cast<std::size_t>(l)].b.data(); }
@@ -84,7 +91,8 @@ class MultigridPreconditioner final : public Preconditioner<Scalar> {
   std::vector<LevelVectors> m_vectors;
   const LinearSystem<Scalar>* m_system = nullptr;
   const BlockSparseMatrix<Scalar>* m_fine = nullptr;
-  std::vector<Scalar> m_coarsest;  // dense Cholesky factor L (row-major, lower) of the coarsest level
+  BlockSparseMatrix<Scalar> m_filtered;  // S A S + I - S of a system with constraints
+  std::vector<Scalar> m_coarsest;        // dense Cholesky factor L (row-major, lower) of the coarsest level
   int m_coarsest_size = 0;
   std::atomic<int> m_failed{0};
   const Scalar* m_r_in = nullptr;
@@ -126,6 +134,7 @@ void MultigridPreconditioner<Scalar>::analyze(const LinearSystem<Scalar>& system
   m_coarsest.assign(static_cast<std::size_t>(n * n), Scalar(0));
   m_system = &system;
   m_fine = &system.matrix;
+  m_filtered = system.matrix;  // the pattern, for systems with constraints
 }
 
 template <class Scalar>
@@ -144,14 +153,34 @@ bool MultigridPreconditioner<Scalar>::factorise_coarsest() {
 }
 
 template <class Scalar>
+void MultigridPreconditioner<Scalar>::filter_finest(const LinearSystem<Scalar>& system) {
+  const ConstraintFilter<Scalar>& c = system.constraints;
+  const BlockSparseMatrix<Scalar>& a = system.matrix;
+  const int* rb = a.row_begin().data();
+  const int* col = a.column().data();
+  team_for(a.block_rows(), [&](int r) {
+    const bool row_free = c.kind(r) == ConstraintKind::Free;
+    const Mat3<Scalar> s_r = c.filter(r);
+    for (int k = rb[r]; k < rb[r + 1]; ++k) {
+      Mat3<Scalar> block = a.block(k);
+      if (!row_free || c.kind(col[k]) != ConstraintKind::Free) block = (s_r * block * c.filter(col[k])).eval();
+      if (col[k] == r && !row_free) block += Mat3<Scalar>::Identity() - s_r;
+      m_filtered.block(k) = block;
+    }
+  });
+}
+
+template <class Scalar>
 bool MultigridPreconditioner<Scalar>::update_in_team(const LinearSystem<Scalar>& system) {
   DRAPE_ASSERT(analyzed() && system.block_rows() == m_hierarchy.rows(0), "multigrid: update before analyze()");
   const int levels = level_count();
+  const bool filtered = !system.constraints.empty();
   team_single([&] {
     m_system = &system;
-    m_fine = &system.matrix;
+    m_fine = filtered ? &m_filtered : &system.matrix;
     m_failed.store(0, std::memory_order_relaxed);
   });  // the single's barrier publishes both
+  if (filtered) filter_finest(system);
   // The finest levels with the whole team, the small ones on one thread (in order: each level's
   // operator is summed from the finer one's).
   int shared = 0;
@@ -178,7 +207,7 @@ void MultigridPreconditioner<Scalar>::residual(int l, const Scalar* b, const Sca
   // instead of two, linalg/edge_operator.hpp); with a team it would cost a barrier per colour, so
   // the team uses block rows. (Never inside a team_single(): the edge product shares its loops
   // with the team.)
-  if (l == 0 && !team && m_system->edges.valid() && team_size() == 1) {
+  if (l == 0 && !team && m_fine == &m_system->matrix && m_system->edges.valid() && team_size() == 1) {
     m_system->edges.multiply_in_team(x, r);
     for (int i = 0; i < 3 * m.block_rows(); ++i) r[i] = b[i] - r[i];
     return;
