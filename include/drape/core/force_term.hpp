@@ -90,23 +90,29 @@ class ForceTerm {
 template <class Scalar>
 using ForceTerms = std::vector<std::shared_ptr<const ForceTerm<Scalar>>>;
 
-/// `f +=` every term's force at (x, v, t): first the terms that do not share work, on the calling
-/// thread (their exceptions reach the caller), then the others on a team of `threads` threads.
-template <class Scalar>
-void add_term_forces(const ForceTerms<Scalar>& terms, int threads, const ConstRef3X<Scalar>& x,
-                     const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f) {
+/// `call(term)` for every term: first those that do not share work, on the calling thread (their
+/// exceptions reach the caller), then the others on a team of `threads` threads.
+template <class Scalar, class Call>
+void for_each_term(const ForceTerms<Scalar>& terms, int threads, Call&& call) {
   bool sharing = false;
   for (const auto& term : terms) {
     if (term->shares_work())
       sharing = true;
     else
-      term->add_force(x, v, t, f);
+      call(*term);
   }
   if (!sharing) return;
   run_in_team(threads, [&] {
     for (const auto& term : terms)
-      if (term->shares_work()) term->add_force(x, v, t, f);
+      if (term->shares_work()) call(*term);
   });
+}
+
+/// `f +=` every term's force at (x, v, t), in the order of for_each_term().
+template <class Scalar>
+void add_term_forces(const ForceTerms<Scalar>& terms, int threads, const ConstRef3X<Scalar>& x,
+                     const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f) {
+  for_each_term(terms, threads, [&](const ForceTerm<Scalar>& term) { term.add_force(x, v, t, f); });
 }
 
 /// add_term_forces() by the team already running (every thread calls it): the terms that do not
@@ -128,36 +134,16 @@ template <class Scalar>
 void add_term_forces_and_derivatives(const ForceTerms<Scalar>& terms, int threads, const ConstRef3X<Scalar>& x,
                                      const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f,
                                      ForceDerivatives<Scalar>& out) {
-  bool sharing = false;
-  for (const auto& term : terms) {
-    if (term->shares_work())
-      sharing = true;
-    else
-      term->add_force_and_derivatives(x, v, t, f, out);
-  }
-  if (!sharing) return;
-  run_in_team(threads, [&] {
-    for (const auto& term : terms)
-      if (term->shares_work()) term->add_force_and_derivatives(x, v, t, f, out);
-  });
+  for_each_term(terms, threads,
+                [&](const ForceTerm<Scalar>& term) { term.add_force_and_derivatives(x, v, t, f, out); });
 }
 
-/// Every term's derivative blocks at (x, v, t) through `out`, in the order of add_term_forces().
+/// Every term's derivative blocks at (x, v, t) through `out`, in the order of for_each_term().
 template <class Scalar>
 void add_term_derivatives(const ForceTerms<Scalar>& terms, int threads, const ConstRef3X<Scalar>& x,
                           const ConstRef3X<Scalar>& v, Scalar t, ForceDerivatives<Scalar>& out) {
-  bool sharing = false;
-  for (const auto& term : terms) {
-    if (!term->has_derivatives()) continue;
-    if (term->shares_work())
-      sharing = true;
-    else
-      term->add_derivatives(x, v, t, out);
-  }
-  if (!sharing) return;
-  run_in_team(threads, [&] {
-    for (const auto& term : terms)
-      if (term->has_derivatives() && term->shares_work()) term->add_derivatives(x, v, t, out);
+  for_each_term(terms, threads, [&](const ForceTerm<Scalar>& term) {
+    if (term.has_derivatives()) term.add_derivatives(x, v, t, out);
   });
 }
 
