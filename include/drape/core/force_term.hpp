@@ -50,8 +50,8 @@ class ForceTerm {
   virtual std::string name() const = 0;
 
   /// `f += ` the term's force (N) on every node, for positions `x` (m) and velocities `v` (m/s),
-  /// `3 x n`, at time `t` (s). Called by one thread unless the term shares_work(); forces on pinned nodes count toward
-  /// the pins' reaction.
+  /// `3 x n`, at time `t` (s). Called by one thread unless the term shares_work(); forces on
+  /// pinned nodes count toward the pins' reaction.
   virtual void add_force(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Ref3X<Scalar> f) const = 0;
 
   /// Node pairs (a, b), a != b, whose block add_derivatives() may write. Called once, when an

@@ -2,9 +2,10 @@
 /// \file edge_operator.hpp
 /// A second form of a system matrix whose off-diagonal coupling comes in pairs of rows ("edges",
 /// e.g. the springs of a cloth):
-/// \f[ A = \mathrm{diag}(m_r) \otimes I_3 + \mathrm{blockdiag}(B_r) + \sum_e \begin{bmatrix} C_e & -C_e \\ -C_e & C_e
-/// \end{bmatrix}_{(a_e, b_e)}, \f] so that \f$ A p = m \circ p + \sum_e \pm C_e (p_{a_e} - p_{b_e}) \f$: one 3x3
-/// product per edge instead of two per edge in block CSR, and about a third of the bytes. Solvers use it for the
+/// \f[ A = \mathrm{diag}(m_r) \otimes I_3 + \mathrm{blockdiag}(B_r)
+///        + \sum_e \begin{bmatrix} C_e & -C_e \\ -C_e & C_e \end{bmatrix}_{(a_e, b_e)}, \f]
+/// so that \f$ A p = m \circ p + B p + \sum_e \pm C_e (p_{a_e} - p_{b_e}) \f$: one 3x3 product per edge
+/// instead of two per edge in block CSR, and about a third of the bytes. Solvers use it for the
 /// product when it is valid and they run on one thread (on a team it costs a barrier per colour).
 ///
 /// - Structure (set once): the two block rows of every edge (-1 for an end that is not in the

@@ -9,11 +9,13 @@
 /// \f[ f_d = -k_d A\, |v \cdot n|\, (v \cdot n)\, n = -k_d \frac{|s|\, s}{N \cdot N} N, \f]
 /// drag along the normal, quadratic in the normal relative velocity (a plate moving along its
 /// normal at speed u feels \f$ \tfrac12 \rho C_d A u^2 \f$);
-/// \f[ f_l = -k_l A\, q\, (v \cdot n)\, (n - (n \cdot \hat v)\, \hat v) = -\frac{k_l}{|N|} \Bigl(s q N - \frac{s^2}{q}
-/// v\Bigr), \f] lift perpendicular to the relative wind, in the plane of n and v, of magnitude \f$ \tfrac12 \rho C_l A
-/// q^2 \sin\alpha \cos\alpha \f$ at angle of attack \f$ \alpha \f$ (largest at 45 degrees, zero for a plate along or
-/// across the flow). Each corner receives a third of \f$ f_d + f_l \f$. Both are independent of the triangle's
-/// orientation (N and -N give the same force).
+/// \f[ f_l = -k_l A\, q\, (v \cdot n)\, (n - (n \cdot \hat v)\, \hat v)
+///        = -\frac{k_l}{|N|} \Bigl(s q N - \frac{s^2}{q} v\Bigr), \f]
+/// lift perpendicular to the relative wind, in the plane of n and v, of magnitude
+/// \f$ \tfrac12 \rho C_l A q^2 \sin\alpha \cos\alpha \f$ at angle of attack \f$ \alpha \f$ (largest at
+/// 45 degrees, zero for a plate along or across the flow). Each corner receives a third of
+/// \f$ f_d + f_l \f$. Both are independent of the triangle's orientation (N and -N give the same
+/// force).
 ///
 /// Derivatives (exact, tested against finite differences): with \f$ J_v = \partial f/\partial v \f$,
 /// \f$ J_N = \partial f / \partial N \f$, \f$ \partial N/\partial x_a = \tfrac12 [x_c - x_b]_\times \f$
