@@ -14,6 +14,7 @@
 #include "drape/core/validation.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/core/team.hpp"
+#include "drape/core/sine.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/spring_set.hpp"
 #include "drape/core/pins.hpp"

@@ -315,6 +315,37 @@ TEST_CASE("air in a symmetric system keeps the solvers' edge form: its product i
   }
 }
 
+TEST_CASE("linear drag folds into the edge form's diagonal: its product is still A's", "[air][edges]") {
+  AirSettings air;
+  air.wind = {3, -1, 2};
+  air.drag = 0.2;
+  const Clothd cloth = cloth_with(air_force_terms<double>(air, Gridd(5, 5, 0.1, 0.03).triangles()), true);
+  const Clothd still = cloth_with({}, true);
+  const Matrix3X<double> x = test::jiggled_positions(cloth, 0.35, 8);
+  const Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 4.0, 9);
+  // Exact too: a uniform wind has no position derivative, so drag's blocks are -c I on the diagonal.
+  for (JacobianVariant variant : {JacobianVariant::Spd, JacobianVariant::Symmetric, JacobianVariant::Exact}) {
+    INFO(to_string(variant));
+    JacobianAssembler<double> assembler(cloth, PinTreatment::Eliminate, 1);
+    LinearSystem<double> system = assembler.make_system();
+    assembler.assemble_system(x, v, 0.3, 1.0 / 60, variant, system);
+    REQUIRE(system.edges.valid());
+    CHECK(system.edges.uses_row_diagonal());
+    CHECK_FALSE(system.edges.uses_row_blocks());
+    const VectorX<double> p = test::random_velocities<double>(system.block_rows(), 1.0, 10).reshaped();
+    VectorX<double> by_edges(p.size()), by_blocks(p.size()), without(p.size());
+    system.edges.multiply(p.data(), by_edges.data());
+    system.matrix.multiply(p.data(), by_blocks.data());
+    CHECK((by_edges - by_blocks).cwiseAbs().maxCoeff() <= 1e-13 * by_blocks.cwiseAbs().maxCoeff());
+    JacobianAssembler<double> plain(still, PinTreatment::Eliminate, 1);
+    LinearSystem<double> no_air = plain.make_system();
+    plain.assemble_system(x, v, 0.3, 1.0 / 60, variant, no_air);
+    no_air.edges.multiply(p.data(), without.data());
+    // The difference is exactly the drag's dt c p.
+    CHECK((by_edges - without - (1.0 / 60) * 0.2 * p).cwiseAbs().maxCoeff() <= 1e-13 * by_blocks.cwiseAbs().maxCoeff());
+  }
+}
+
 TEST_CASE("air terms keep runs reproducible: 1 and 2 threads agree bit for bit", "[air][threads]") {
   if (max_threads() < 2) return;
   ClothSpecd spec;

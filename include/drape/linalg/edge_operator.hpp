@@ -16,7 +16,9 @@
 ///   symmetric (lower triangle row by row, block3.hpp), a third fewer bytes. Optionally a 3x3 block
 ///   \f$ B_r \f$ per row (9 values, column-major; room made by enable_row_blocks()), for terms whose
 ///   blocks lie on the diagonal (air drag). The writer then calls set_valid(); anything that
-///   changes the matrix otherwise must invalidate() it.
+///   changes the matrix otherwise must invalidate() it. When every \f$ B_r \f$ is a multiple
+///   \f$ s_r I \f$ of the identity (linear drag), set_valid() folds them into the diagonal,
+///   \f$ (m_r + s_r) \f$, and the product is as cheap as without them.
 
 #include <array>
 #include <vector>
@@ -57,12 +59,17 @@ class EdgeOperator {
   Scalar* values() { return m_values.data(); }
   const Scalar* values() const { return m_values.data(); }
   /// Makes room for the row blocks B_r (zero); they count once set_valid() says so.
-  void enable_row_blocks() { m_row_blocks.assign(9 * m_row_mass.size(), Scalar(0)); }
+  void enable_row_blocks() {
+    m_row_blocks.assign(9 * m_row_mass.size(), Scalar(0));
+    m_row_diagonal = m_row_mass;
+  }
   /// B_r of every row (9 values each), empty unless enable_row_blocks() was called.
   Scalar* row_blocks() { return m_row_blocks.data(); }
   const Scalar* row_blocks() const { return m_row_blocks.data(); }
-  /// True if the product includes the row blocks.
+  /// True if the product includes the row blocks as 3x3 blocks.
   bool uses_row_blocks() const { return m_use_row_blocks; }
+  /// True if the row blocks, all multiples of I, are folded into the diagonal m_r + s_r.
+  bool uses_row_diagonal() const { return m_use_row_diagonal; }
 
   /// Declares the values current; `symmetric`: they are stored as 6 per edge; `row_blocks`: the
   /// row blocks are part of A (they must have been enabled). An operator without structure never
@@ -71,6 +78,8 @@ class EdgeOperator {
     m_valid = !m_edge_rows.empty() || !m_row_mass.empty();
     m_symmetric = symmetric;
     m_use_row_blocks = row_blocks && !m_row_blocks.empty();
+    m_use_row_diagonal = m_use_row_blocks && fold_isotropic_row_blocks();
+    if (m_use_row_diagonal) m_use_row_blocks = false;
   }
   void invalidate() { m_valid = false; }
 
@@ -86,19 +95,32 @@ class EdgeOperator {
   /// `y += sum_e +-C_e (x_a - x_b)` over the edges in colour order.
   template <bool Symmetric>
   void add_edge_products(const Scalar* x, Scalar* y) const;
+  /// If every B_r is s_r I, writes m_r + s_r to m_row_diagonal and returns true.
+  bool fold_isotropic_row_blocks();
 
   std::vector<int> m_edge_rows, m_colour_begin;
-  std::vector<Scalar> m_row_mass, m_values, m_row_blocks;
+  std::vector<Scalar> m_row_mass, m_values, m_row_blocks, m_row_diagonal;
   bool m_valid = false;
   bool m_symmetric = false;
   bool m_use_row_blocks = false;
+  bool m_use_row_diagonal = false;
 };
 
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
+bool EdgeOperator<Scalar>::fold_isotropic_row_blocks() {
+  const Scalar* b = m_row_blocks.data();
+  for (int r = 0; r < rows(); ++r, b += 9)
+    if (b[1] != 0 || b[2] != 0 || b[3] != 0 || b[5] != 0 || b[6] != 0 || b[7] != 0 || b[4] != b[0] || b[8] != b[0])
+      return false;
+  for (std::size_t r = 0; r < m_row_mass.size(); ++r) m_row_diagonal[r] = m_row_mass[r] + m_row_blocks[9 * r];
+  return true;
+}
+
+template <class Scalar>
 void EdgeOperator<Scalar>::multiply_in_team(const Scalar* x, Scalar* y) const {
-  const Scalar* mass = m_row_mass.data();
+  const Scalar* mass = m_use_row_diagonal ? m_row_diagonal.data() : m_row_mass.data();
   if (m_use_row_blocks) {
     const Scalar* b = m_row_blocks.data();
     team_for(rows(), [&](int r) {
