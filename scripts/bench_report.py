@@ -74,7 +74,8 @@ class Result:
         return tuple((k, self.attrs[k]) for k in keys)
 
 
-COUNTER_KEYS = ("bytes_per_second", "cg_iterations", "residual_max", "failures", "compressed", "threads_used", "nodes", "agreement")
+COUNTER_KEYS = ("bytes_per_second", "cg_iterations", "residual_max", "failures", "compressed", "threads_used", "nodes",
+                "agreement", "contacts", "solves", "items_per_second")
 
 
 def load_results(path):
@@ -247,6 +248,77 @@ def family_table(results, family, baseline_match):
                   ", ".join(f"{method_label(r.method())} at {r.n} x {r.n}: {r.counter('failures', max):.0f}"
                             for r in fails)]
     lines.append("")
+    return lines
+
+
+ENVIRONMENT_TEXT = {
+    "drag": "linear drag in a steady wind",
+    "drag_gusts": "linear drag in gusts",
+    "aerodynamic": "per-triangle aerodynamic drag and lift, steady wind",
+    "air": "all the air: drag, aerodynamics, gusts",
+    "colliders8": "8 analytic colliders out of reach (detection alone)",
+    "colliders8_touching": "8 colliders, one under the falling cloth (contacts in the solve)",
+}
+ENVIRONMENT_GOAL = {"drag": 5, "drag_gusts": 5, "colliders8": 15}
+
+
+def environment_section(results):
+    """Issue 12's costs: the environment against the bare cloth of the same run, the scenes, detection."""
+    env = [r for r in results if r.family == "environment_step"]
+    if not env:
+        return []
+    sizes = sorted({r.n for r in env})
+    lines = ["## Contact and environment (issue 12)", "",
+             "`environment_step`: one implicit step (dt = 1/60, default solver, 2 threads) of the hanging cloth "
+             "with its environment; in brackets the cost over the bare cloth (`env=none`) of the same run. "
+             "Goals: colliders at most +15%, drag and wind at most +5% (bench/analysis.md has the measured "
+             "limits of the per-triangle aerodynamics).", "",
+             "| environment | goal | " + " | ".join(f"{n} x {n}" for n in sizes) + " |",
+             "|---|---|" + "---|" * len(sizes)]
+    bare = {r.n: r for r in env if r.attrs.get("env") == "none"}
+    lines.append("| bare cloth (`none`) | | " + " | ".join(fmt_time(bare[n].median_ms) if n in bare else "-"
+                                                        for n in sizes) + " |")
+    for key, text in ENVIRONMENT_TEXT.items():
+        row = {r.n: r for r in env if r.attrs.get("env") == key}
+        if not row:
+            continue
+        cells = []
+        for n in sizes:
+            r = row.get(n)
+            if r is None or n not in bare:
+                cells.append("-")
+                continue
+            over = 100 * (r.median_ms / bare[n].median_ms - 1)
+            cells.append(f"{fmt_time(r.median_ms)} ({over:+.0f}%)")
+        goal = f"+{ENVIRONMENT_GOAL[key]}%" if key in ENVIRONMENT_GOAL else ""
+        lines.append(f"| {text} (`{key}`) | {goal} | " + " | ".join(cells) + " |")
+    lines.append("")
+    scenes = [r for r in results if r.family == "scene_step"]
+    if scenes:
+        ssizes = sorted({r.n for r in scenes})
+        lines += ["`scene_step`: one implicit step (dt = 1/60, 2 threads) of each example scene, timed from a moment "
+                  "when it is in contact or in motion (bench/bench_scenes.cpp); "
+                  "mean contacts, linear solves (contact rounds) and CG iterations per step.", "",
+                  "| scene | " + " | ".join(f"{n} x {n}" for n in ssizes) + " |", "|---|" + "---|" * len(ssizes)]
+        for name in sorted({r.attrs.get("scene") for r in scenes}):
+            row = {r.n: r for r in scenes if r.attrs.get("scene") == name}
+            cells = []
+            for n in ssizes:
+                r = row.get(n)
+                if r is None:
+                    cells.append("-")
+                    continue
+                c, so, it = r.counter("contacts"), r.counter("solves"), r.counter("cg_iterations")
+                cells.append(f"{fmt_time(r.median_ms)}: {c or 0:.0f} contacts, {so or 0:.2f} solves, {it or 0:.0f} it")
+            lines.append(f"| {name} | " + " | ".join(cells) + " |")
+        lines.append("")
+    detect = sorted((r for r in results if r.family == "contact_detection"), key=lambda r: r.n)
+    if detect:
+        k = fit_exponent([(r.nodes, r.median_ms) for r in detect])
+        lines += ["`contact_detection`: finding the contacts of the drop-on-sphere scene (all nodes against its "
+                  "colliders, swept over the step): " + ", ".join(
+                      f"{fmt_time(r.median_ms)} at {r.n} x {r.n} ({r.nodes / r.median_ms / 1e3:.1f} M nodes/s)"
+                      for r in detect) + (f"; time ~ nodes^{k:.2f}." if k is not None else "."), ""]
     return lines
 
 
@@ -506,6 +578,7 @@ def main():
     for family in ("implicit_step", "linear_solve", "jacobian_assembly", "rk2_step", "force_assembly", "setup"):
         out += family_table(results, family, baseline_for)
     out += speedup_table(results)
+    out += environment_section(results)
 
     out += ["## Cost growth", "",
             "The `exponent` column of each table is the least-squares slope of log(time) against "
