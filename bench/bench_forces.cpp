@@ -1,9 +1,10 @@
 /// \file bench_forces.cpp
 /// Force assembly and the RK2 step at the default dt: drape (1 and 2 threads) against the textbook
-/// baseline (baseline.hpp).
+/// baseline (baseline.hpp); the symplectic Euler step at the same dt (`symplectic_step`).
 
 #include "baseline.hpp"
 #include "bench_common.hpp"
+#include "drape/integrators/symplectic_euler.hpp"
 #include "drape/physics/force_assembler.hpp"
 
 namespace drape_bench {
@@ -42,6 +43,14 @@ void rk2_step_drape(benchmark::State& st) {
   st.counters["threads_used"] = rk2.forces().threads();
 }
 
+// The same scene and dt as rk2_step: one force pass per step instead of two.
+void symplectic_step_drape(benchmark::State& st) {
+  const Scene& sc = scene(int(st.range(0)));
+  drape::SymplecticEuler<double> stepper(*sc.cloth, {drape::IntegratorOptions{}.dt, int(st.range(1))});
+  run_steps(st, sc, rk2_window, [&](drape::State<double>& s) { return stepper.step(s); });
+  st.counters["threads_used"] = stepper.forces().threads();
+}
+
 void rk2_step_baseline(benchmark::State& st) {
   const Scene& sc = scene(int(st.range(0)));
   BaselineRk2 rk2(*sc.cloth);
@@ -50,12 +59,16 @@ void rk2_step_baseline(benchmark::State& st) {
 }
 
 const bool registered = [] {
-  sized(benchmark::RegisterBenchmark("force_assembly/impl=drape", force_assembly_drape), one_and_two, benchmark::kMicrosecond);
-  sized(benchmark::RegisterBenchmark("force_assembly/impl=baseline", force_assembly_baseline), serial, benchmark::kMicrosecond);
+  sized(benchmark::RegisterBenchmark("force_assembly/impl=drape", force_assembly_drape), one_and_two,
+        benchmark::kMicrosecond);
+  sized(benchmark::RegisterBenchmark("force_assembly/impl=baseline", force_assembly_baseline), serial,
+        benchmark::kMicrosecond);
   sized(benchmark::RegisterBenchmark("rk2_step/impl=drape", rk2_step_drape), one_and_two, benchmark::kMicrosecond, 257,
         headline_min_time);
   sized(benchmark::RegisterBenchmark("rk2_step/impl=baseline", rk2_step_baseline), serial, benchmark::kMicrosecond, 257,
         headline_min_time);
+  sized(benchmark::RegisterBenchmark("symplectic_step/impl=drape", symplectic_step_drape), one_and_two,
+        benchmark::kMicrosecond, 257, headline_min_time);
   return true;
 }();
 

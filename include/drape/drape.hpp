@@ -65,6 +65,7 @@
 #include "drape/integrators/step_status.hpp"
 #include "drape/integrators/integrator.hpp"
 #include "drape/integrators/rk2.hpp"
+#include "drape/integrators/symplectic_euler.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/make_integrator.hpp"
 

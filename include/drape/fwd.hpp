@@ -34,6 +34,8 @@ template <class Scalar>
 class Rk2;
 template <class Scalar>
 class ImplicitEuler;
+template <class Scalar>
+class SymplecticEuler;
 class Pins;
 struct IntegratorOptions;
 struct ImplicitOptions;
@@ -54,6 +56,8 @@ using LinearSystemd = LinearSystem<double>;
 using LinearSystemf = LinearSystem<float>;
 using Rk2d = Rk2<double>;
 using Rk2f = Rk2<float>;
+using SymplecticEulerd = SymplecticEuler<double>;
+using SymplecticEulerf = SymplecticEuler<float>;
 using JacobianAssemblerd = JacobianAssembler<double>;
 using JacobianAssemblerf = JacobianAssembler<float>;
 using ImplicitEulerd = ImplicitEuler<double>;

@@ -31,7 +31,7 @@ TEST_CASE("every option enum parses and prints its names", "[enum_names]") {
   require_round_trip<PinTreatment>({"eliminate", "filter"});
   require_round_trip<PreconditionerKind>({"multigrid", "block-jacobi"});
   require_round_trip<LinearSolverKind>({"cg", "bicgstab", "ldlt", "lu", "cholmod", "umfpack"});
-  require_round_trip<IntegratorKind>({"rk2", "implicit"});
+  require_round_trip<IntegratorKind>({"rk2", "implicit", "symplectic"});
   require_round_trip<BoundaryCondition>({"one-corner", "two-corners"});
   require_round_trip<SpringCategory>({"structural", "shear", "bend"});
   CHECK(joined_names<PinTreatment>(" | ") == "eliminate | filter");

@@ -27,7 +27,7 @@ ClothSpecd hanging_cloth(int n = 9) {
 }
 
 std::unique_ptr<Integrator<double>> make(const Clothd& cloth, IntegratorKind kind, ImplicitOptions options = {}) {
-  options.dt = kind == IntegratorKind::Rk2 ? 5e-4 : 0.01;
+  options.dt = kind == IntegratorKind::Implicit ? 0.01 : 5e-4;
   options.threads = 1;
   options.tolerance = 1e-9;
   return make_integrator(cloth, kind, options);
@@ -79,7 +79,7 @@ TEST_CASE("moving pins end every step exactly on their paths, in both integrator
   const auto drawn = PinPath<double>::keyframes({0.0, 0.5, 1.0}, {xb, 0.5 * (xa + xb), xa + Vec3<double>(0.2, 0, 0)});
   const auto waved = PinPath<double>::callback(
       [xa](double t) { return Vec3<double>(xa + Vec3<double>(0.1 * std::sin(6 * t), 0.3 * t, 0)); });
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
     INFO(to_string(kind));
     auto stepper = make(cloth, kind);
     stepper->pins().pin(b, drawn);
@@ -97,7 +97,7 @@ TEST_CASE("moving pins end every step exactly on their paths, in both integrator
 }
 
 TEST_CASE("pins released during a run: the cloth falls freely; pins added hold", "[pins][release]") {
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
     INFO(to_string(kind));
     const Clothd cloth(hanging_cloth());
     auto stepper = make(cloth, kind);
@@ -132,7 +132,7 @@ TEST_CASE("pins lifting a cloth at constant speed carry its weight", "[pins][rea
   ClothSpecd spec = hanging_cloth();
   spec.force_terms.push_back(std::make_shared<AirDrag<double>>(0.05, WindField<double>(Vec3<double>(0, speed, 0))));
   const Clothd cloth(spec);
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
     INFO(to_string(kind));
     auto stepper = make(cloth, kind);
     Stated state = cloth.initial_state();

@@ -34,7 +34,7 @@ template <class S>
 std::unique_ptr<Integrator<S>> integrator(const Cloth<S>& cloth, IntegratorKind kind,
                                           LinearSolverKind solver = LinearSolverKind::Cg) {
   ImplicitOptions options;
-  options.dt = kind == IntegratorKind::Rk2 ? 5e-4 : 0.01;
+  options.dt = kind == IntegratorKind::Implicit ? 0.01 : 5e-4;
   options.threads = 1;
   options.solver = solver;
   options.tolerance = std::is_same_v<S, float> ? 1e-5 : 1e-8;
@@ -74,7 +74,7 @@ double segment_distance(const Vec3<double>& p0, const Vec3<double>& p1, const Ve
 TEMPLATE_TEST_CASE("contact: a cloth dropped on a plane rests on it and the floor carries its weight", "[contact]",
                    float, double) {
   using S = TestType;
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
     INFO(to_string(kind));
     ClothSpec<S> spec = free_cloth<S>();
     spec.colliders.push_back(Collider<S>::plane(Vec3<S>(0, S(-0.3), 0), Vec3<S>(0, 1, 0)));
@@ -108,7 +108,7 @@ TEMPLATE_TEST_CASE("contact: friction on a slope, sliding at g (sin a - mu cos a
                    float, double) {
   using S = TestType;
   const double angle = 20 * pi / 180;  // tan a = 0.364
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2})
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic})
     for (const double mu : {0.0, 0.2, 0.5}) {
       INFO(to_string(kind) << ", mu = " << mu);
       ClothSpec<S> spec = free_cloth<S>();
@@ -140,7 +140,7 @@ TEMPLATE_TEST_CASE("contact: friction on a slope, sliding at g (sin a - mu cos a
 }
 
 TEST_CASE("contact: a cloth on the floor thrown upward leaves it (contacts never pull)", "[contact]") {
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
     INFO(to_string(kind));
     ClothSpecd spec = free_cloth<double>();
     spec.colliders.push_back(Colliderd::plane(Vec3<double>::Zero(), Vec3<double>(0, 1, 0)));
@@ -193,7 +193,7 @@ TEST_CASE("contact: nodes the solve sends into a collider become constraints and
 }
 
 TEST_CASE("contact: a cloth thrown at a thin box never passes through it", "[contact][tunnelling]") {
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
     INFO(to_string(kind));
     ClothSpecd spec = free_cloth<double>();
     spec.gravity = 0;
@@ -219,7 +219,7 @@ TEST_CASE("contact: a cloth thrown at a thin box never passes through it", "[con
 }
 
 TEST_CASE("contact: a fast sphere hitting a hanging cloth never passes a node", "[contact][tunnelling]") {
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
     INFO(to_string(kind));
     ClothSpecd spec = free_cloth<double>(11);
     spec.pinned_nodes = std::vector<int>{0, 10};  // two corners
@@ -269,7 +269,7 @@ TEST_CASE("contact: direct and iterative solvers give the same contact step", "[
 
 TEST_CASE("contact: colliders out of reach change nothing; momentum kept without external forces",
           "[contact][momentum]") {
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
     INFO(to_string(kind));
     ClothSpecd spec = free_cloth<double>(7);
     spec.gravity = 0;

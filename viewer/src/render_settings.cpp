@@ -763,7 +763,7 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
 
   app.add_option("--scene", s.scene, "TOML scene file; its keys are the flag names without '--'")->group("Scene");
   const char* sim = "Simulation";
-  bind.name("integrator", s.integrator, "rk2 (explicit midpoint) | implicit (linearised implicit Euler)", sim);
+  bind.name("integrator", s.integrator, "rk2 (explicit midpoint) | implicit (linearised implicit Euler) | symplectic (semi-implicit Euler)", sim);
   bind.name("jacobian", i.jacobian, "implicit: " + drape::joined_names<drape::JacobianVariant>(" | "), sim);
   std::string solvers;
   for (drape::LinearSolverKind k : drape::available_solvers())

@@ -19,20 +19,22 @@
 namespace drape {
 
 enum class IntegratorKind : std::uint8_t {
-  Rk2 = 0,       ///< explicit midpoint rule (rk2.hpp)
-  Implicit = 1,  ///< linearised implicit Euler (implicit_euler.hpp)
+  Rk2 = 0,         ///< explicit midpoint rule (rk2.hpp)
+  Implicit = 1,    ///< linearised implicit Euler (implicit_euler.hpp)
+  Symplectic = 2,  ///< symplectic (semi-implicit) Euler (symplectic_euler.hpp)
 };
 
 template <>
 struct EnumNames<IntegratorKind> {
   static constexpr const char* parameter = "integrator";
-  static constexpr std::array<EnumName<IntegratorKind>, 2> values{
-      {{IntegratorKind::Rk2, "rk2"}, {IntegratorKind::Implicit, "implicit"}}};
+  static constexpr std::array<EnumName<IntegratorKind>, 3> values{{{IntegratorKind::Rk2, "rk2"},
+                                                                   {IntegratorKind::Implicit, "implicit"},
+                                                                   {IntegratorKind::Symplectic, "symplectic"}}};
 };
 
 struct IntegratorOptions {
-  /// Time step (s). The default suits RK2 with the default springs (drape's parameters.md); the
-  /// implicit step is stable far beyond it.
+  /// Time step (s). The default suits the explicit integrators with the default springs (drape's
+  /// parameters.md); the implicit step is stable far beyond it.
   double dt = 0.0005;
   int threads = 0;  ///< 0 = all available
 

@@ -1,0 +1,113 @@
+#pragma once
+/// \file symplectic_euler.hpp
+/// Symplectic (semi-implicit) Euler:
+/// \f[ v_{t+1} = v_t + \Delta t\, M^{-1} f(x_t, v_t), \qquad x_{t+1} = x_t + \Delta t\, v_{t+1}. \f]
+/// The explicit scheme most cloth simulators use: one force pass per step (RK2 takes two), first
+/// order, and symplectic for the conservative part of the force, so an undamped cloth's energy
+/// oscillates around its true value instead of drifting (its stable dt is also larger than the
+/// midpoint rule's for springs with little damping: docs/parameters.md). RK2 stays the default.
+/// Pinned nodes end the step on their path with velocity (x(t + dt) - x) / dt, as in RK2; contacts
+/// with colliders are resolved on the step's result (physics/contact_handler.hpp).
+///
+/// One step is one parallel region with one barrier: the spring pass, then the node pass fused with
+/// the update and the finiteness check (force_assembler.hpp). Bitwise identical for any thread
+/// count. Force terms are evaluated at (x_t, v_t, t) before it.
+
+#include <algorithm>
+#include <atomic>
+#include <vector>
+
+#include "drape/core/cloth.hpp"
+#include "drape/core/team.hpp"
+#include "drape/integrators/integrator.hpp"
+#include "drape/physics/force_assembler.hpp"
+
+namespace drape {
+
+template <class Scalar = double>
+class SymplecticEuler final : public Integrator<Scalar> {
+ public:
+  /// \throws InvalidParameter as IntegratorOptions::validate().
+  explicit SymplecticEuler(const Cloth<Scalar>& cloth, const IntegratorOptions& options = {});
+  /// The integrator keeps a reference to the cloth: a temporary would dangle.
+  SymplecticEuler(const Cloth<Scalar>&& cloth, const IntegratorOptions& options = {}) = delete;
+
+  StepStatus step(State<Scalar>& state) override;
+
+  const ForceAssembler<Scalar>& forces() const { return m_forces; }
+
+ private:
+  ForceAssembler<Scalar> m_forces;
+  VectorX<Scalar> m_inverse_mass;
+  Matrix3X<Scalar> m_x_new, m_v_new;
+  Matrix3X<Scalar> m_pin_end;  // the pins' positions at the end of the step (pins().nodes() order)
+};
+
+// ---------------------------------------------------------------------------------------------
+
+template <class Scalar>
+SymplecticEuler<Scalar>::SymplecticEuler(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
+    : Integrator<Scalar>(cloth, options),
+      m_forces(cloth, options.threads),
+      m_inverse_mass(cloth.grid().masses().cwiseInverse()),
+      m_x_new(3, cloth.node_count()),
+      m_v_new(3, cloth.node_count()) {}
+
+template <class Scalar>
+StepStatus SymplecticEuler<Scalar>::step(State<Scalar>& state) {
+  this->require_state_fits(state);
+  const Scalar dt = this->dt();
+  const Scalar* x = state.positions.data();
+  const Scalar* v = state.velocities.data();
+  Scalar* x_new = m_x_new.data();
+  Scalar* v_new = m_v_new.data();
+  const Scalar* inverse_mass = m_inverse_mass.data();
+  const std::vector<int>& pins = this->pins().nodes();
+  this->pins().positions(state.time + dt, state.positions, m_pin_end);
+  std::atomic<bool> finite{true};
+  m_forces.evaluate_terms(state.positions, state.velocities, state.time);
+
+  run_in_team(m_forces.threads(), [&] {
+    m_forces.spring_pass(node_view(state.positions), node_view(state.velocities));
+    team_barrier();
+    Scalar probe = 0;  // NaN if any new value is not finite (0 * inf = NaN), else 0
+    m_forces.node_pass([&](const ForceBlock<Scalar>& block) {
+      const Index i0 = block.begin;
+      for (int k = 0; k < 3; ++k) {
+        const Scalar* f = block.f[k];
+        DRAPE_OMP_SIMD
+        for (int j = 0; j < block.count; ++j) {
+          const Index i = i0 + j;
+          const Scalar velocity = v[3 * i + k] + dt * (f[j] * inverse_mass[i]);
+          v_new[3 * i + k] = velocity;
+          x_new[3 * i + k] = x[3 * i + k] + dt * velocity;  // the new velocity: symplectic
+        }
+      }
+      // Pinned nodes (sorted) follow their paths whatever velocity the caller left on them.
+      const auto first = std::lower_bound(pins.begin(), pins.end(), i0);
+      const auto last = std::lower_bound(first, pins.end(), i0 + block.count);
+      for (auto p = first; p != last; ++p) {
+        const Index pin = p - pins.begin();
+        for (int k = 0; k < 3; ++k) {
+          x_new[3 * *p + k] = m_pin_end(k, pin);
+          v_new[3 * *p + k] = (m_pin_end(k, pin) - x[3 * *p + k]) / dt;
+        }
+      }
+      const Scalar* xn = x_new + 3 * i0;
+      const Scalar* vn = v_new + 3 * i0;
+      DRAPE_OMP_SIMD_SUM(probe)
+      for (int j = 0; j < 3 * block.count; ++j) probe += xn[j] * 0 + vn[j] * 0;
+    });
+    if (!(probe == 0)) finite.store(false, std::memory_order_relaxed);
+  });
+
+  if (!finite.load(std::memory_order_relaxed)) return {StepError::NonFiniteState, 0, 0.0};
+  // Contacts: an impulse to each node that reaches a collider, friction, the end-of-step check.
+  this->contacts().respond(state.positions, state.velocities, state.time, dt, m_x_new, m_v_new, this->pins().mask());
+  state.positions.swap(m_x_new);
+  state.velocities.swap(m_v_new);
+  state.time += dt;
+  return {};
+}
+
+}  // namespace drape
