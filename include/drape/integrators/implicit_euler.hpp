@@ -53,9 +53,11 @@ struct ImplicitOptions : IntegratorOptions {
   int newton_iterations = 1;
   double newton_tolerance = 1e-6;
   /// With colliders: at most this many linear solves per step while the contact set changes
-  /// (nodes let go or newly reached; physics/contact_handler.hpp). Left-over changes are resolved
-  /// after the solve like the explicit step does.
-  int contact_rounds = 4;
+  /// (nodes let go or newly reached; physics/contact_handler.hpp). 1 (the default) is Baraff and
+  /// Witkin's lagged active set: contacts the solve lets go are free from the next step, nodes it
+  /// newly brings to a collider get an impulse after it and are constraints from the next step.
+  /// More rounds iterate the set within the step, a solve each (docs/contact.md: cost and effect).
+  int contact_rounds = 1;
 
   /// The iterative solvers' share of these options.
   IterativeSettings iterative_settings() const { return {tolerance, max_iterations, threads, preconditioner}; }

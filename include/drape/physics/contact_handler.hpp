@@ -46,7 +46,7 @@ struct ContactReport {
   int sliding = 0;    ///< of which slid
   int corrected = 0;  ///< nodes the end-of-step check had to push out
   /// Contacts resolved by an impulse after the solve instead of as constraints of it: all of them
-  /// in RK2; in the implicit step only those the contact rounds ran out before.
+  /// in RK2; in the implicit step those its last solve brought to a collider.
   int after_solve = 0;
   int rounds = 0;      ///< implicit step: linear solves (1 without contact changes); RK2: 0
   Scalar deepest = 0;  ///< deepest penetration h - d at the end of the step, before the check (m, >= 0)
@@ -58,7 +58,9 @@ template <class Scalar = double>
 class ContactHandler {
  public:
   explicit ContactHandler(const Cloth<Scalar>& cloth)
-      : m_cloth(&cloth), m_slot(static_cast<std::size_t>(cloth.node_count()), -1) {}
+      : m_cloth(&cloth),
+        m_slot(static_cast<std::size_t>(cloth.node_count()), -1),
+        m_let_go(static_cast<std::size_t>(cloth.node_count()), -1) {}
   ContactHandler(const Cloth<Scalar>&& cloth) = delete;
 
   /// True if the scene has colliders (everything below is then a no-op otherwise).
@@ -91,7 +93,8 @@ class ContactHandler {
     Vec3<Scalar> normal;
     Vec3<Scalar> surface_velocity;
     Scalar target;   // n . v+ at the end of the step
-    Scalar impulse;  // normal impulse of the step (N s)
+    Scalar impulse;       // normal impulse of the step (N s)
+    bool solved = false;  // a constraint of the step's last solve (else resolved by an impulse after it)
   };
 
   /// What the broad phase knows of a collider during the step, and its poses.
@@ -128,6 +131,9 @@ class ContactHandler {
   std::vector<Contact> m_contacts;  // this step's
   std::vector<Contact> m_kept;      // scratch of revise()
   std::vector<int> m_slot;          // per node: index into m_contacts, -1 if none
+  // Per node: the step (m_step) in which revise() let its contact go because it pulled.
+  std::vector<long long> m_let_go;
+  long long m_step = 0;  // constrain() calls
   std::vector<Bounds> m_bounds;     // per collider, this step's
   ContactReport<Scalar> m_report;
   bool m_constrained = false;  // constrain() began this step
@@ -204,6 +210,7 @@ void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstR
   release_rows(c);
   m_report = {};
   m_constrained = true;
+  ++m_step;
   if (!active()) return;
   bound(t, dt);
   // A node resting on a surface sits at d = h up to rounding: a small margin keeps it constrained
@@ -216,7 +223,13 @@ void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstR
     if (row < 0 || c.kind(row) == ConstraintKind::Fixed) continue;  // pinned
     Contact contact;
     if (!sweep(node, x.col(i), x.col(i) + dt * v.col(i), dt, h + margin, contact)) continue;
-    if (contact.normal.dot(v.col(i)) * dt >= contact.target * dt + margin) continue;  // clearly leaving
+    const Scalar approach = contact.target * dt - contact.normal.dot(v.col(i)) * dt;  // > 0: moving in
+    if (approach <= -margin) continue;  // clearly leaving
+    // Let go last step because the surface had to pull it: free unless it moves in. Constraining
+    // it again would only let it go again after a second solve (Baraff & Witkin 1998 release
+    // contacts on the last step's constraint force the same way). If its new path enters the
+    // collider, revise() takes it back.
+    if (m_let_go[static_cast<std::size_t>(node)] == m_step - 1 && approach <= margin) continue;
     contact.row = row;
     add(contact, &c, v);
   }
@@ -234,6 +247,7 @@ bool ContactHandler<Scalar>::revise(const LinearSystem<Scalar>& system, const Ve
   std::vector<Contact>& kept = m_kept;
   kept.clear();
   for (Contact& contact : m_contacts) {
+    contact.solved = true;
     const int r = contact.row;
     Vec3<Scalar> lambda = -system.rhs.template segment<3>(3 * r);
     for (int k = a.row_begin()[r]; k < a.row_begin()[r + 1]; ++k)
@@ -242,6 +256,7 @@ bool ContactHandler<Scalar>::revise(const LinearSystem<Scalar>& system, const Ve
     m_slot[static_cast<std::size_t>(contact.node)] = -1;
     if (contact.impulse < 0) {
       c.release(r);
+      m_let_go[static_cast<std::size_t>(contact.node)] = m_step;
       changed = true;
     } else {
       kept.push_back(contact);
@@ -261,6 +276,7 @@ bool ContactHandler<Scalar>::revise(const LinearSystem<Scalar>& system, const Ve
     if (contact.normal.dot(v_new) >= contact.target) continue;  // touches but leaves by itself
     contact.row = row;
     add(contact, &c, v);
+    m_let_go[static_cast<std::size_t>(node)] = -1;  // it moves in after all
     changed = true;
   }
   return changed;
@@ -314,10 +330,10 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
       if (!sweep(node, x.col(i), x_new.col(i), dt, h, contact)) continue;
       if (contact.normal.dot(v_new.col(i)) >= contact.target) continue;  // leaves the surface by itself
       add(contact, nullptr, v);
-      ++m_report.after_solve;
       slot = m_slot[static_cast<std::size_t>(node)];
     }
     Contact& contact = m_contacts[static_cast<std::size_t>(slot)];
+    if (!contact.solved) ++m_report.after_solve;
     Vec3<Scalar> velocity = v_new.col(i);
     const Scalar normal_speed = contact.normal.dot(velocity);
     if (normal_speed < contact.target) {
