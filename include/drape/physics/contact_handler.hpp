@@ -92,7 +92,7 @@ class ContactHandler {
     int row;  // system row under the implicit step's constraints, -1 otherwise
     Vec3<Scalar> normal;
     Vec3<Scalar> surface_velocity;
-    Scalar target;   // n . v+ at the end of the step
+    Scalar target;        // n . v+ at the end of the step
     Scalar impulse;       // normal impulse of the step (N s)
     bool solved = false;  // a constraint of the step's last solve (else resolved by an impulse after it)
   };
@@ -133,8 +133,8 @@ class ContactHandler {
   std::vector<int> m_slot;          // per node: index into m_contacts, -1 if none
   // Per node: the step (m_step) in which revise() let its contact go because it pulled.
   std::vector<long long> m_let_go;
-  long long m_step = 0;  // constrain() calls
-  std::vector<Bounds> m_bounds;     // per collider, this step's
+  long long m_step = 0;          // constrain() calls
+  std::vector<Bounds> m_bounds;  // per collider, this step's
   ContactReport<Scalar> m_report;
   bool m_constrained = false;  // constrain() began this step
 };
@@ -224,7 +224,7 @@ void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstR
     Contact contact;
     if (!sweep(node, x.col(i), x.col(i) + dt * v.col(i), dt, h + margin, contact)) continue;
     const Scalar approach = contact.target * dt - contact.normal.dot(v.col(i)) * dt;  // > 0: moving in
-    if (approach <= -margin) continue;  // clearly leaving
+    if (approach <= -margin) continue;                                                // clearly leaving
     // Let go last step because the surface had to pull it: free unless it moves in. Constraining
     // it again would only let it go again after a second solve (Baraff & Witkin 1998 release
     // contacts on the last step's constraint force the same way). If its new path enters the
