@@ -223,8 +223,9 @@ void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstR
     if (row < 0 || c.kind(row) == ConstraintKind::Fixed) continue;  // pinned
     Contact contact;
     if (!sweep(node, x.col(i), x.col(i) + dt * v.col(i), dt, h + margin, contact)) continue;
-    const Scalar approach = contact.target * dt - contact.normal.dot(v.col(i)) * dt;  // > 0: moving in
-    if (approach <= -margin) continue;                                                // clearly leaving
+    // How far its velocity would take it past the surface target in the step (> 0: in, < 0: out).
+    const Scalar approach = contact.target * dt - contact.normal.dot(v.col(i)) * dt;
+    if (approach <= -margin) continue;  // clearly leaving
     // Let go last step because the surface had to pull it: free unless it moves in. Constraining
     // it again would only let it go again after a second solve (Baraff & Witkin 1998 release
     // contacts on the last step's constraint force the same way). If its new path enters the
