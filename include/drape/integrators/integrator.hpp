@@ -5,13 +5,16 @@
 /// `step(state)`. `IntegratorOptions` are the settings every integrator takes; the implicit one
 /// adds its own (implicit_euler.hpp). make_integrator.hpp builds one by kind.
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "drape/core/cloth.hpp"
 #include "drape/core/pin_set.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/core/state.hpp"
+#include "drape/core/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/integrators/step_status.hpp"
 #include "drape/physics/contact_handler.hpp"
@@ -44,6 +47,32 @@ struct IntegratorOptions {
     detail::require_at_least("threads", threads, 0);
   }
 };
+
+namespace detail {
+/// The end of an explicit step for the nodes [begin, begin + count) (3 scalars each): the pinned
+/// ones among them (`pins` sorted, `pin_end` their positions at t + dt in that order) end on their
+/// paths with velocity (x(t + dt) - x) / dt, whatever velocity the caller left on them. Returns NaN
+/// if any new value of the block is not finite (0 * inf = NaN), else 0.
+template <class Scalar>
+Scalar finish_explicit_block(const std::vector<int>& pins, const Matrix3X<Scalar>& pin_end, Index begin, int count,
+                             const Scalar* x, Scalar dt, Scalar* x_new, Scalar* v_new) {
+  const auto first = std::lower_bound(pins.begin(), pins.end(), begin);
+  const auto last = std::lower_bound(first, pins.end(), begin + count);
+  for (auto p = first; p != last; ++p) {
+    const Index pin = p - pins.begin();
+    for (int k = 0; k < 3; ++k) {
+      x_new[3 * *p + k] = pin_end(k, pin);
+      v_new[3 * *p + k] = (pin_end(k, pin) - x[3 * *p + k]) / dt;
+    }
+  }
+  const Scalar* xn = x_new + 3 * begin;
+  const Scalar* vn = v_new + 3 * begin;
+  Scalar probe = 0;
+  DRAPE_OMP_SIMD_SUM(probe)
+  for (int j = 0; j < 3 * count; ++j) probe += xn[j] * 0 + vn[j] * 0;
+  return probe;
+}
+}  // namespace detail
 
 template <class Scalar = double>
 class Integrator {

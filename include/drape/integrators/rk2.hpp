@@ -147,18 +147,7 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
           v_new[3 * i + k] = v[3 * i + k] + dt * (f[j] * inverse_mass[i]);
         }
       }
-      const auto pinned = pins_in(i0, i0 + block.count);
-      for (auto p = pinned.first; p != pinned.second; ++p) {
-        const Index pin = p - pins.begin();
-        for (int k = 0; k < 3; ++k) {
-          x_new[3 * *p + k] = m_pin_end(k, pin);
-          v_new[3 * *p + k] = (m_pin_end(k, pin) - x[3 * *p + k]) / dt;
-        }
-      }
-      const Scalar* xn = x_new + 3 * i0;
-      const Scalar* vn = v_new + 3 * i0;
-      DRAPE_OMP_SIMD_SUM(probe)
-      for (int j = 0; j < 3 * block.count; ++j) probe += xn[j] * 0 + vn[j] * 0;
+      probe += detail::finish_explicit_block(pins, m_pin_end, i0, block.count, x, dt, x_new, v_new);
     });
     if (!(probe == 0)) finite.store(false, std::memory_order_relaxed);
   });

@@ -83,20 +83,7 @@ StepStatus SymplecticEuler<Scalar>::step(State<Scalar>& state) {
           x_new[3 * i + k] = x[3 * i + k] + dt * velocity;  // the new velocity: symplectic
         }
       }
-      // Pinned nodes (sorted) follow their paths whatever velocity the caller left on them.
-      const auto first = std::lower_bound(pins.begin(), pins.end(), i0);
-      const auto last = std::lower_bound(first, pins.end(), i0 + block.count);
-      for (auto p = first; p != last; ++p) {
-        const Index pin = p - pins.begin();
-        for (int k = 0; k < 3; ++k) {
-          x_new[3 * *p + k] = m_pin_end(k, pin);
-          v_new[3 * *p + k] = (m_pin_end(k, pin) - x[3 * *p + k]) / dt;
-        }
-      }
-      const Scalar* xn = x_new + 3 * i0;
-      const Scalar* vn = v_new + 3 * i0;
-      DRAPE_OMP_SIMD_SUM(probe)
-      for (int j = 0; j < 3 * block.count; ++j) probe += xn[j] * 0 + vn[j] * 0;
+      probe += detail::finish_explicit_block(pins, m_pin_end, i0, block.count, x, dt, x_new, v_new);
     });
     if (!(probe == 0)) finite.store(false, std::memory_order_relaxed);
   });
