@@ -23,9 +23,10 @@ const fs::path source_dir = DRAPE_SOURCE_DIR;
 const std::map<std::string, std::set<std::string>> allowed = {
     {"core", {"core"}},
     {"linalg", {"core", "linalg"}},
-    {"physics", {"core", "linalg", "physics"}},
+    {"collision", {"core", "collision"}},
+    {"physics", {"core", "linalg", "collision", "physics"}},
     {"solvers", {"core", "linalg", "solvers"}},
-    {"integrators", {"core", "linalg", "physics", "solvers", "integrators"}},
+    {"integrators", {"core", "linalg", "collision", "physics", "solvers", "integrators"}},
     {"realtime", {"core", "realtime"}},
     {"io", {"core", "io"}},
 };

@@ -34,6 +34,12 @@
 #include "drape/linalg/linear_system.hpp"
 #include "drape/linalg/filtered_system.hpp"
 
+// collision: cloth-cloth geometry (closest points, continuous tests, broad phase)
+#include "drape/collision/primitive_distance.hpp"
+#include "drape/collision/continuous_collision.hpp"
+#include "drape/collision/mesh_topology.hpp"
+#include "drape/collision/bounding_volume_hierarchy.hpp"
+
 // physics: forces, their derivatives, the system assembly, diagnostics
 #include "drape/physics/spring_kernel.hpp"
 #include "drape/physics/spring_jacobian.hpp"

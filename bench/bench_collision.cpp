@@ -1,0 +1,88 @@
+/// \file bench_collision.cpp
+/// The broad phase of cloth self-collision (`broad_phase`, serial): one refit of the triangle BVH
+/// to a swept step and the list of overlapping triangle pairs, on an n x n cloth (spacing 0.1 m)
+/// folded and crumpled so that much of it lies on other parts of itself, with a margin of 1 cm.
+/// The tree is built once on the flat rest shape, as a simulation would. The fold repeats every
+/// 12 columns whatever n, so the overlaps per node stay the same and the time per node should too.
+/// Counters: `pairs` (triangle pairs per call), `ns_per_node` (wall-clock time of one refit and
+/// query per node).
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include "bench_common.hpp"
+#include "drape/collision/bounding_volume_hierarchy.hpp"
+#include "drape/collision/mesh_topology.hpp"
+#include "drape/core/grid.hpp"
+
+namespace drape_bench {
+namespace {
+
+/// Start and end of a swept step of the crumpled cloth.
+struct CrumpledCloth {
+  drape::Matrix3X<double> rest, start, end;
+};
+
+/// x (in cells) and layer of column i of a cloth Z-folded along x: every 12 columns go 6 cells
+/// forward, 3 back and 3 forward again, so half of the cloth lies three layers deep however large
+/// it is; each period starts two layers above the previous one.
+std::array<int, 2> z_fold(int i) {
+  const int period = i / 12, r = i % 12;
+  if (r <= 6) return {6 * period + r, 2 * period};
+  if (r <= 9) return {6 * period + 12 - r, 2 * period + 1};
+  return {6 * period + r - 6, 2 * period + 2};
+}
+
+/// The grid Z-folded along x (1.5 cm between layers), every layer corrugated alike (5 cm waves,
+/// so the layers stay parallel and a sloped triangle's box reaches the next layer but one), then
+/// moving down by 4 mm with a 2 mm wobble.
+CrumpledCloth crumpled_cloth(const drape::Grid<double>& grid) {
+  const double h = grid.spacing(), gap = 0.015, pi = 3.14159265358979323846;
+  CrumpledCloth c{grid.rest_positions(), {}, {}};
+  c.start = c.rest;
+  c.end = c.rest;
+  for (int j = 0; j < grid.ny(); ++j)
+    for (int i = 0; i < grid.nx(); ++i) {
+      const std::array<int, 2> fold = z_fold(i);
+      const double x = fold[0] * h, z = j * h;
+      const double y = fold[1] * gap + 0.05 * std::sin(2 * pi * x / 1.1) * std::sin(2 * pi * z / 0.9);
+      const int v = grid.node(i, j);
+      c.start.col(v) = drape::Vec3<double>(x, y, z);
+      c.end.col(v) = c.start.col(v) + drape::Vec3<double>(0.002 * std::sin(1.3 * i + 0.7 * j), -0.004,
+                                                          0.002 * std::cos(0.9 * i - 1.1 * j));
+    }
+  return c;
+}
+
+void broad_phase(benchmark::State& st) {
+  const int n = int(st.range(0));
+  const drape::Grid<double> grid(n, n, 0.1, 0.03);
+  const drape::MeshTopology topology(grid.node_count(), grid.triangles());
+  const CrumpledCloth cloth = crumpled_cloth(grid);
+  drape::TriangleBvh<double> bvh(topology, cloth.rest);
+  std::vector<std::array<int, 2>> pairs;
+  bvh.refit(cloth.start, cloth.end, 0.01);  // untimed: grows `pairs` to its size
+  bvh.overlapping_pairs(pairs);
+  const auto begin = std::chrono::steady_clock::now();
+  for (auto _ : st) {
+    bvh.refit(cloth.start, cloth.end, 0.01);
+    bvh.overlapping_pairs(pairs);
+    benchmark::DoNotOptimize(pairs.data());
+    benchmark::ClobberMemory();
+  }
+  const std::chrono::duration<double, std::nano> elapsed = std::chrono::steady_clock::now() - begin;
+  st.counters["pairs"] = double(pairs.size());
+  st.counters["nodes"] = double(grid.node_count());
+  st.counters["ns_per_node"] = elapsed.count() / double(st.iterations()) / double(grid.node_count());
+  st.SetItemsProcessed(st.iterations() * grid.node_count());
+}
+
+const bool registered = [] {
+  sized(benchmark::RegisterBenchmark("broad_phase", broad_phase), serial, benchmark::kMicrosecond);
+  return true;
+}();
+
+}  // namespace
+}  // namespace drape_bench
