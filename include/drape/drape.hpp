@@ -23,6 +23,7 @@
 #include "drape/core/state.hpp"
 #include "drape/core/force_term.hpp"
 #include "drape/core/collider.hpp"
+#include "drape/core/self_collision_settings.hpp"
 #include "drape/core/cloth.hpp"
 
 // linalg: 3x3 block storage and the linear system solvers are handed
@@ -51,6 +52,7 @@
 #include "drape/physics/aerodynamic_force.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/physics/contact_handler.hpp"
+#include "drape/physics/self_collision.hpp"
 #include "drape/physics/diagnostics.hpp"
 
 // solvers: linear solvers and preconditioners (know nothing of cloth)

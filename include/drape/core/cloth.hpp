@@ -14,6 +14,7 @@
 #include "drape/core/force_term.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/pins.hpp"
+#include "drape/core/self_collision_settings.hpp"
 #include "drape/core/spring_set.hpp"
 #include "drape/core/state.hpp"
 
@@ -39,6 +40,8 @@ struct ClothSpec {
   std::vector<Collider<Scalar>> colliders;
   /// m: the cloth's half-thickness; nodes rest this far from a collider's surface.
   Scalar contact_thickness = Scalar(0.005);
+  /// The cloth against itself (core/self_collision_settings.hpp); off by default.
+  SelfCollisionSettings<Scalar> self_collision;
 
   static constexpr SpringCoefficients<Scalar> default_springs() {
     return {{Scalar(20000), Scalar(10)}, {Scalar(5000), Scalar(5)}, {Scalar(500), Scalar(1)}};
@@ -56,6 +59,9 @@ struct ClothSpec {
     for (const auto& term : force_terms)
       if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
     detail::require_nonnegative_finite("contact thickness", contact_thickness);
+    self_collision.validate();
+    if (self_collision.enabled && !(contact_thickness > 0))
+      detail::fail_argument("contact thickness", "0 with self-collision on", "> 0 (layers keep twice it apart)");
   }
 };
 
@@ -70,20 +76,23 @@ class Cloth {
         m_gravity(Scalar(0), -spec.gravity, Scalar(0)),
         m_force_terms(spec.force_terms),
         m_colliders(spec.colliders),
-        m_contact_thickness(spec.contact_thickness) {
+        m_contact_thickness(spec.contact_thickness),
+        m_self_collision(spec.self_collision) {
     require_pins_clear_of_colliders();
   }
 
   Cloth(Grid<Scalar> grid, SpringSet<Scalar> springs, Pins pins, const Vec3<Scalar>& gravity,
         std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms = {},
-        std::vector<Collider<Scalar>> colliders = {}, Scalar contact_thickness = Scalar(0.005))
+        std::vector<Collider<Scalar>> colliders = {}, Scalar contact_thickness = Scalar(0.005),
+        SelfCollisionSettings<Scalar> self_collision = {})
       : m_grid(std::move(grid)),
         m_springs(std::move(springs)),
         m_pins(std::move(pins)),
         m_gravity(gravity),
         m_force_terms(std::move(force_terms)),
         m_colliders(std::move(colliders)),
-        m_contact_thickness(contact_thickness) {
+        m_contact_thickness(contact_thickness),
+        m_self_collision(self_collision) {
     if (m_pins.mask().size() != static_cast<std::size_t>(m_grid.node_count()))
       detail::fail_argument("pins", "a pin set for " + detail::to_text(m_pins.mask().size()) + " nodes",
                             "a pin set built for this grid's " + detail::to_text(m_grid.node_count()) + " nodes");
@@ -91,6 +100,9 @@ class Cloth {
     for (const auto& term : m_force_terms)
       if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
     detail::require_nonnegative_finite("contact thickness", m_contact_thickness);
+    m_self_collision.validate();
+    if (m_self_collision.enabled && !(m_contact_thickness > 0))
+      detail::fail_argument("contact thickness", "0 with self-collision on", "> 0 (layers keep twice it apart)");
     require_pins_clear_of_colliders();
   }
 
@@ -105,6 +117,8 @@ class Cloth {
   const std::vector<Collider<Scalar>>& colliders() const { return m_colliders; }
   /// m: nodes rest this far from a collider's surface.
   Scalar contact_thickness() const { return m_contact_thickness; }
+  /// How the cloth collides with itself.
+  const SelfCollisionSettings<Scalar>& self_collision() const { return m_self_collision; }
   /// m: how much deeper than the thickness a node may end a step before the end-of-step check
   /// pushes it out (physics/contact_handler.hpp): 1% of the thickness, or rounding.
   Scalar contact_tolerance() const {
@@ -127,6 +141,7 @@ class Cloth {
   std::vector<std::shared_ptr<const ForceTerm<Scalar>>> m_force_terms;
   std::vector<Collider<Scalar>> m_colliders;
   Scalar m_contact_thickness;
+  SelfCollisionSettings<Scalar> m_self_collision;
 
   /// \throws InvalidParameter naming `colliders[k]` if a pinned node starts closer than the
   /// contact thickness to collider k (it could never be pushed out).

@@ -332,7 +332,7 @@ StepStatus ImplicitEuler<Scalar>::step(State<Scalar>& state) {
       return {StepError::NoConvergence, status.iterations, m_newton_residual};
     }
   }
-  contacts.respond(state.positions, state.velocities, state.time, dt, m_x_new, m_v_new, this->pins().mask());
+  this->respond_to_contacts(state, dt, m_x_new, m_v_new);
   if (!(m_x_new.allFinite() && m_v_new.allFinite())) {
     m_dv.setZero();
     status.error = StepError::NonFiniteState;

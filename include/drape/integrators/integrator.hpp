@@ -18,6 +18,7 @@
 #include "drape/core/validation.hpp"
 #include "drape/integrators/step_status.hpp"
 #include "drape/physics/contact_handler.hpp"
+#include "drape/physics/self_collision.hpp"
 
 namespace drape {
 
@@ -99,11 +100,14 @@ class Integrator {
   const PinSet<Scalar>& pins() const { return m_pins; }
   /// What the cloth's contacts did in the last step (empty without colliders).
   const ContactReport<Scalar>& contact_report() const { return m_contacts.report(); }
+  /// What the cloth's self-collision did in the last step (empty when it is off).
+  const SelfCollisionReport& self_collision_report() const { return m_self_collisions.report(); }
 
  protected:
   /// \throws InvalidParameter as IntegratorOptions::validate().
   Integrator(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
-      : m_cloth(&cloth), m_dt((options.validate(), Scalar(options.dt))), m_pins(cloth.pins()), m_contacts(cloth) {
+      : m_cloth(&cloth), m_dt((options.validate(), Scalar(options.dt))), m_pins(cloth.pins()), m_contacts(cloth),
+        m_self_collisions(cloth) {
     set_dt(m_dt);  // the conversion to Scalar must not make it 0 or infinite
   }
 
@@ -118,11 +122,21 @@ class Integrator {
   /// The contacts with the cloth's colliders: constraints and responses, the same for every integrator.
   ContactHandler<Scalar>& contacts() { return m_contacts; }
 
+  /// The end of every integrator's step, on its result `x_new`, `v_new` from `state`: contacts
+  /// with the colliders, then the cloth against itself.
+  void respond_to_contacts(const State<Scalar>& state, Scalar dt, Matrix3X<Scalar>& x_new, Matrix3X<Scalar>& v_new) {
+    m_contacts.respond(state.positions, state.velocities, state.time, dt, x_new, v_new, m_pins.mask());
+    if (m_self_collisions.active())
+      m_self_collisions.respond(state.positions, dt, x_new, v_new, m_pins.mask(),
+                                [this](int i) { return m_contacts.holding_normal(i); });
+  }
+
  private:
   const Cloth<Scalar>* m_cloth;
   Scalar m_dt;
   PinSet<Scalar> m_pins;
   ContactHandler<Scalar> m_contacts;
+  SelfCollisionHandler<Scalar> m_self_collisions;
 };
 
 }  // namespace drape

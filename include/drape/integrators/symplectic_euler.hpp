@@ -90,7 +90,7 @@ StepStatus SymplecticEuler<Scalar>::step(State<Scalar>& state) {
 
   if (!finite.load(std::memory_order_relaxed)) return {StepError::NonFiniteState, 0, 0.0};
   // Contacts: an impulse to each node that reaches a collider, friction, the end-of-step check.
-  this->contacts().respond(state.positions, state.velocities, state.time, dt, m_x_new, m_v_new, this->pins().mask());
+  this->respond_to_contacts(state, dt, m_x_new, m_v_new);
   state.positions.swap(m_x_new);
   state.velocities.swap(m_v_new);
   state.time += dt;

@@ -1,0 +1,234 @@
+// Self-collision (physics/self_collision.hpp) in scenes where the cloth folds onto itself, for
+// every integrator: an exact triangle-triangle test over all triangle pairs that share no node
+// (brute force, tests/collision/mesh_checks.hpp) finds no intersection at any step, and pairs of
+// primitives that share no node keep a stated fraction of the layer distance; the same scenes
+// without self-collision do pass through themselves (so the checks can fail); the fail-safe alone
+// keeps the cloth apart; friction between layers; determinism; bad input.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+
+#include "collision/mesh_checks.hpp"
+#include "drape/fwd.hpp"
+#include "drape/integrators/make_integrator.hpp"
+#include "test_common.hpp"
+
+using namespace drape;
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+/// A free nx x ny cloth 0.1 m apart with light, damped springs, gravity 10, self-collision on.
+template <class S>
+ClothSpec<S> folding_cloth(int nx, int ny) {
+  ClothSpec<S> spec = test::small_spec<S>(nx, S(10));
+  spec.ny = ny;
+  spec.node_mass = S(0.01);
+  spec.springs = {{S(1000), S(1)}, {S(500), S(0.5)}, {S(20), S(0.05)}};
+  spec.pinned_nodes = std::vector<int>{};
+  spec.contact_thickness = S(0.01);
+  spec.self_collision.enabled = true;
+  return spec;
+}
+
+/// Positions of the cloth laid along a path in the (z, y) plane: node (i, j) at x = i h and at
+/// arc length j h along `path(s)` (returns (z, y)).
+template <class S>
+Matrix3X<S> laid_along(const Cloth<S>& cloth, const std::function<Eigen::Vector2d(double)>& path) {
+  const Grid<S>& grid = cloth.grid();
+  Matrix3X<S> x(3, grid.node_count());
+  for (int j = 0; j < grid.ny(); ++j)
+    for (int i = 0; i < grid.nx(); ++i) {
+      const Eigen::Vector2d zy = path(double(j) * double(grid.spacing()));
+      x.col(grid.node(i, j)) = Vec3<S>(S(double(i) * double(grid.spacing())), S(zy.y()), S(zy.x()));
+    }
+  return x;
+}
+
+/// Flat on the floor (y = y0) up to `fold`, half a turn of radius r, then back over itself.
+inline std::function<Eigen::Vector2d(double)> folded_path(double y0, double fold, double r) {
+  return [=](double s) -> Eigen::Vector2d {
+    if (s <= fold) return {s, y0};
+    const double a = (s - fold) / r;
+    if (a <= pi) return {fold + r * std::sin(a), y0 + r * (1 - std::cos(a))};
+    return {fold - (s - fold - pi * r), y0 + 2 * r};
+  };
+}
+
+template <class S>
+std::unique_ptr<Integrator<S>> integrator(const Cloth<S>& cloth, IntegratorKind kind) {
+  ImplicitOptions options;
+  options.dt = kind == IntegratorKind::Implicit ? 1.0 / 60 : 1e-3;
+  options.threads = 1;
+  options.tolerance = std::is_same_v<S, float> ? 1e-5 : 1e-8;
+  return make_integrator(cloth, kind, options);
+}
+
+/// What a run saw: the first step with an intersection (-1: none), the smallest distance between
+/// primitives that share no node over all steps, steps that needed the fail-safe.
+struct RunCheck {
+  int first_intersecting_step = -1;
+  double closest = 1e30;
+  int failsafe_steps = 0;
+  int unresolved = 0;
+};
+
+template <class S>
+RunCheck run_checked(Integrator<S>& integrator, State<S>& state, double seconds) {
+  const auto triangles = integrator.cloth().grid().triangles();
+  RunCheck out;
+  const int steps = int(std::lround(seconds / double(integrator.dt())));
+  for (int k = 0; k < steps; ++k) {
+    const StepStatus status = integrator.step(state);
+    INFO("step " << k << ": " << to_string(status.error));
+    REQUIRE(status.ok());
+    const SelfCollisionReport& report = integrator.self_collision_report();
+    out.failsafe_steps += report.failsafe() ? 1 : 0;
+    out.unresolved += report.unresolved;
+    if (out.first_intersecting_step < 0 && test::first_intersection(state.positions, triangles).found)
+      out.first_intersecting_step = k;
+    out.closest = std::min(out.closest, double(test::min_nonadjacent_distance(state.positions, triangles)));
+  }
+  return out;
+}
+
+const IntegratorKind all_integrators[] = {IntegratorKind::Implicit, IntegratorKind::Symplectic, IntegratorKind::Rk2};
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("self-collision: a cloth folded over itself falls onto its lower half and rests there",
+                   "[self-collision]", float, double) {
+  using S = TestType;
+  for (IntegratorKind kind : all_integrators) {
+    INFO(to_string(kind));
+    ClothSpec<S> spec = folding_cloth<S>(9, 17);
+    spec.colliders.push_back(Collider<S>::plane(Vec3<S>::Zero(), Vec3<S>(0, 1, 0)).set_friction(S(0.3), S(0.3)));
+    const Cloth<S> cloth(spec);
+    auto stepper = integrator(cloth, kind);
+    State<S> state = cloth.initial_state();
+    const double h = double(spec.contact_thickness);
+    state.positions = laid_along(cloth, folded_path(h, 0.9, 0.15));
+    const RunCheck check = run_checked(*stepper, state, 1.5);
+    CHECK(check.first_intersecting_step == -1);
+    CHECK(check.unresolved == 0);
+    CHECK(check.closest >= 0.01 * 2 * h);
+    // The upper layer (the last rows) lies on the lower one, a layer distance above it.
+    const Grid<S>& grid = cloth.grid();
+    double top = 0;
+    for (int i = 0; i < grid.nx(); ++i) top += double(state.positions(1, grid.node(i, grid.ny() - 1)));
+    top /= grid.nx();
+    CHECK(top == Approx(3 * h).margin(0.5 * h));
+  }
+}
+
+TEST_CASE("self-collision: without it the same fold passes through itself (the check can fail)", "[self-collision]") {
+  ClothSpec<double> spec = folding_cloth<double>(9, 17);
+  spec.self_collision.enabled = false;
+  spec.colliders.push_back(Colliderd::plane(Vec3<double>::Zero(), Vec3<double>(0, 1, 0)));
+  const Clothd cloth(spec);
+  auto stepper = integrator(cloth, IntegratorKind::Implicit);
+  State<double> state = cloth.initial_state();
+  state.positions = laid_along(cloth, folded_path(spec.contact_thickness, 0.9, 0.15));
+  const RunCheck check = run_checked(*stepper, state, 1.5);
+  CHECK(check.first_intersecting_step >= 0);
+}
+
+TEST_CASE("self-collision: a hanging cloth let fall onto a floor piles up in folds without passing through itself",
+          "[self-collision]") {
+  for (IntegratorKind kind : all_integrators) {
+    INFO(to_string(kind));
+    ClothSpec<double> spec = folding_cloth<double>(11, 21);
+    spec.colliders.push_back(Colliderd::plane(Vec3<double>::Zero(), Vec3<double>(0, 1, 0)).set_friction(0.5, 0.5));
+    const Clothd cloth(spec);
+    auto stepper = integrator(cloth, kind);
+    State<double> state = cloth.initial_state();
+    // Upright, its lower edge 5 cm above the floor, waved a little so that it buckles into folds.
+    state.positions = laid_along(cloth, [](double s) -> Eigen::Vector2d {
+      return {0.03 * std::sin(7.0 * s), 0.05 + s};
+    });
+    const RunCheck check = run_checked(*stepper, state, 2.0);
+    CHECK(check.first_intersecting_step == -1);
+    CHECK(check.unresolved == 0);
+    CHECK(check.closest >= 0.01 * 2 * spec.contact_thickness);
+    // It piled up: everything lies within a few layers of the floor.
+    CHECK(state.positions.row(1).maxCoeff() < 0.5);
+  }
+}
+
+TEST_CASE("self-collision: impact zones alone keep the fold apart", "[self-collision][failsafe]") {
+  ClothSpec<double> spec = folding_cloth<double>(9, 17);
+  spec.self_collision.impulse_rounds = 0;  // every crossing goes to the fail-safe
+  spec.colliders.push_back(Colliderd::plane(Vec3<double>::Zero(), Vec3<double>(0, 1, 0)));
+  const Clothd cloth(spec);
+  auto stepper = integrator(cloth, IntegratorKind::Implicit);
+  State<double> state = cloth.initial_state();
+  state.positions = laid_along(cloth, folded_path(spec.contact_thickness, 0.9, 0.15));
+  const RunCheck check = run_checked(*stepper, state, 1.5);
+  CHECK(check.first_intersecting_step == -1);
+  CHECK(check.unresolved == 0);
+  CHECK(check.failsafe_steps > 0);
+}
+
+TEST_CASE("self-collision: friction between layers slows an upper layer sliding over the lower", "[self-collision]") {
+  // The fold's upper layer rests on the lower one (pinned) and is thrown along the fold line (+x);
+  // the fold's springs pull it back either way, friction between the layers slows it further.
+  auto travel = [](double mu) {
+    ClothSpec<double> spec = folding_cloth<double>(9, 17);
+    spec.self_collision.friction = mu;
+    spec.pinned_nodes = std::vector<int>{};
+    for (int node = 0; node < 9 * 9; ++node) spec.pinned_nodes->push_back(node);  // rows j <= 8
+    const Clothd cloth(spec);
+    auto stepper = integrator(cloth, IntegratorKind::Implicit);
+    State<double> state = cloth.initial_state();
+    state.positions = laid_along(cloth, folded_path(spec.contact_thickness, 0.9, 0.01));
+    const Grid<double>& grid = cloth.grid();
+    for (int node = 0; node < grid.node_count(); ++node)
+      if (state.positions(1, node) > 0.015) state.velocities(0, node) = 1.0;
+    const int far = grid.node(4, grid.ny() - 1);
+    const double start = state.positions(0, far);
+    const RunCheck check = run_checked(*stepper, state, 0.25);
+    CHECK(check.first_intersecting_step == -1);
+    return state.positions(0, far) - start;
+  };
+  const double free = travel(0.0), rough = travel(0.8);
+  CHECK(free > 0.05);
+  CHECK(rough < 0.8 * free);
+}
+
+TEST_CASE("self-collision: same inputs give bit-identical states", "[self-collision][determinism]") {
+  ClothSpec<double> spec = folding_cloth<double>(9, 17);
+  spec.colliders.push_back(Colliderd::plane(Vec3<double>::Zero(), Vec3<double>(0, 1, 0)));
+  const Clothd cloth(spec);
+  auto a = integrator(cloth, IntegratorKind::Implicit);
+  auto b = integrator(cloth, IntegratorKind::Implicit);
+  State<double> sa = cloth.initial_state();
+  sa.positions = laid_along(cloth, folded_path(spec.contact_thickness, 0.9, 0.15));
+  State<double> sb = sa;
+  for (int k = 0; k < 60; ++k) {
+    REQUIRE(a->step(sa).ok());
+    REQUIRE(b->step(sb).ok());
+  }
+  CHECK(a->self_collision_report().proximity_pairs > 0);
+  CHECK((sa.positions.array() == sb.positions.array()).all());
+  CHECK((sa.velocities.array() == sb.velocities.array()).all());
+}
+
+TEST_CASE("self-collision: bad settings name the parameter", "[self-collision][validation]") {
+  auto message = [](const std::function<void(ClothSpec<double>&)>& change) {
+    ClothSpec<double> spec;
+    spec.self_collision.enabled = true;
+    change(spec);
+    try {
+      Clothd cloth(spec);
+    } catch (const InvalidParameter& e) { return std::string(e.what()); }
+    return std::string();
+  };
+  CHECK_THAT(message([](auto& s) { s.self_collision.friction = -0.1; }), Catch::Contains("self friction"));
+  CHECK_THAT(message([](auto& s) { s.self_collision.impulse_rounds = 65; }), Catch::Contains("self impulse rounds"));
+  CHECK_THAT(message([](auto& s) { s.self_collision.separation_rate = 0; }), Catch::Contains("self separation rate"));
+  CHECK_THAT(message([](auto& s) { s.contact_thickness = 0; }), Catch::Contains("contact thickness"));
+  CHECK(message([](auto&) {}).empty());
+}
