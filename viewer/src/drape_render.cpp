@@ -107,12 +107,14 @@ class ProgressBar {
 
 /// The contact columns of a log row (ContactReport over the frame's steps).
 struct ContactColumns {
-  int contacts = 0, sticking = 0, sliding = 0;  // the frame's last step
-  int corrected = 0, after_solve = 0;           // summed over the frame's steps
-  int rounds = 0;                               // largest over the frame's steps
-  double deepest = 0;                           // largest over the frame's steps (m)
+  int contacts = 0, sticking = 0, sliding = 0;                     // the frame's last step
+  int corrected = 0, after_solve = 0;                              // summed over the frame's steps
+  int rounds = 0;                                                  // largest over the frame's steps
+  double deepest = 0;                                              // largest over the frame's steps (m)
   drape::Vec3<double> normal_force = drape::Vec3<double>::Zero();  // averaged over the frame's steps (N)
   drape::Vec3<double> friction_force = drape::Vec3<double>::Zero();
+  // Self-collision, summed over the frame's steps (proximity pairs: the last step's).
+  int self_proximity = 0, self_impacts = 0, self_zone_steps = 0, self_unresolved = 0;
 };
 
 /// log.csv: one row per frame, flushed as it is written. The columns are the same for every run
@@ -127,7 +129,7 @@ class FrameLog {
         "frame,sim_time,wall_time,steps,dropped_time,achieved_factor,kinetic_energy,spring_energy,"
         "gravity_energy,total_energy,max_strain,solver_iterations,max_residual,contacts,sticking,sliding,"
         "corrected,after_solve,contact_rounds,deepest_penetration,normal_force,normal_force_y,friction_force,"
-        "pin_reaction_y,air_power\n",
+        "pin_reaction_y,air_power,self_proximity,self_impacts,self_zone_steps,self_unresolved\n",
         m_file);
   }
   ~FrameLog() {
@@ -148,9 +150,11 @@ class FrameLog {
     if (std::fprintf(m_file, "%d,%.9g,%.6f,%d,%.9g,%.6g,%.9g,%.9g,%.9g,%.9g,%.6g,%lld,%.3g", frame, state.time, wall,
                      steps, dropped, factor, ek, es, eg, ek + es + eg, drape::max_strain(cloth, state.positions),
                      iterations, residual) < 0 ||
-        std::fprintf(m_file, ",%d,%d,%d,%d,%d,%d,%.6g,%.9g,%.9g,%.9g,%.9g,%.9g\n", c.contacts, c.sticking, c.sliding,
+        std::fprintf(m_file, ",%d,%d,%d,%d,%d,%d,%.6g,%.9g,%.9g,%.9g,%.9g,%.9g", c.contacts, c.sticking, c.sliding,
                      c.corrected, c.after_solve, c.rounds, c.deepest, c.normal_force.norm(), c.normal_force.y(),
                      c.friction_force.norm(), pin_reaction_y, air_power) < 0 ||
+        std::fprintf(m_file, ",%d,%d,%d,%d\n", c.self_proximity, c.self_impacts, c.self_zone_steps, c.self_unresolved) <
+            0 ||
         std::fflush(m_file) != 0)
       throw drape::FileWriteError("cannot write '" + m_path + "'");
   }
@@ -363,6 +367,10 @@ class Run {
     c.deepest = std::max(c.deepest, report.deepest);
     c.normal_force += report.normal_force;
     c.friction_force += report.friction_force;
+    const drape::SelfCollisionReport& self = m_integrator->self_collision_report();
+    c.self_impacts += self.impacts;
+    c.self_zone_steps += self.failsafe() ? 1 : 0;
+    c.self_unresolved += self.unresolved;
   }
 
   /// The log's contact columns for a frame after `done`: the counts of the last step, the forces
@@ -373,6 +381,7 @@ class Run {
     c.contacts = report.contacts;
     c.sticking = report.sticking;
     c.sliding = report.sliding;
+    c.self_proximity = m_integrator->self_collision_report().proximity_pairs;
     if (done.steps > 0) {
       c.normal_force /= done.steps;
       c.friction_force /= done.steps;

@@ -79,6 +79,9 @@ const std::map<std::string, std::string>& flag_of_parameter() {
       {"gust waves", "--gust-waves"},
       {"contact thickness", "--contact-thickness"},
       {"contact_rounds", "--contact-rounds"},
+      {"self friction", "--self-friction"},
+      {"self impulse rounds", "--self-impulse-rounds"},
+      {"self separation rate", "--self-separation-rate"},
   };
   return flags;
 }
@@ -499,8 +502,13 @@ class Bindings {
   CLI::Option* vector_as(const std::string& flag, const std::string& key, std::array<double, 3>& field,
                          const std::string& help, const char* group) {
     CLI::Option* opt = m_app.add_option_function<std::vector<double>>(
-        flag, [&field](const std::vector<double>& v) { field = {v.at(0), v.at(1), v.at(2)}; }, help);
-    opt->expected(3)->type_name("FLOAT")->default_str(number(field[0]) + " " + number(field[1]) + " " + number(field[2]));
+        flag,
+        [&field](const std::vector<double>& v) {
+          field = {v.at(0), v.at(1), v.at(2)};
+        },
+        help);
+    opt->expected(3)->type_name("FLOAT")->default_str(number(field[0]) + " " + number(field[1]) + " " +
+                                                      number(field[2]));
     opt->group(group);
     m_keys[key] = {opt, [&field, key](const toml::node& n, const std::string& file) {
                      field = from_toml<std::array<double, 3>>(n, key, file);
@@ -561,15 +569,16 @@ std::string key_in_table(const std::string& key) {
   for (const auto& [other, binding] : keys)
     if (hint.empty() && other != key && binding.option->get_name() == "--" + dashed)
       hint = " (did you mean " + key_in_table(other) + "?)";
-  throw SettingsError("scene file '" + file + "': unknown key '" + key + "'" + hint +
-                      "; the keys are the flag names of --help without '--', the air's in the tables [air] and "
-                      "[air.gusts], the colliders' in tables [[colliders]], the moving pins' in tables [[moving-pins]]");
+  throw SettingsError(
+      "scene file '" + file + "': unknown key '" + key + "'" + hint +
+      "; the keys are the flag names of --help without '--', the air's in the tables [air] and "
+      "[air.gusts], the colliders' in tables [[colliders]], the moving pins' in tables [[moving-pins]]");
 }
 
 /// Applies the keys of a scene-file table (`prefix` "" for the top level, "air." for [air], ...)
 /// that no flag overrides; records which keys it applied.
-void apply_table(const toml::table& table, const std::string& prefix, std::map<std::string, Binding>& keys,
-                 Settings& s, const CLI::Option* frames, const CLI::Option* duration, FileKeys& from_file) {
+void apply_table(const toml::table& table, const std::string& prefix, std::map<std::string, Binding>& keys, Settings& s,
+                 const CLI::Option* frames, const CLI::Option* duration, FileKeys& from_file) {
   for (const auto& [k, node] : table) {
     const std::string key = prefix + std::string(k.str());
     if (key == "colliders") {  // [[colliders]]: no flag
@@ -642,7 +651,8 @@ void validate(const Settings& s, const FileKeys& from_file) {
       fail("scene file '" + s.scene + "': " + pin.key + (pin.grid_node ? ".node" : ".id"),
            pin.grid_node ? "[" + std::to_string((*pin.grid_node)[0]) + ", " + std::to_string((*pin.grid_node)[1]) + "]"
                          : std::to_string(pin.id),
-           "a node no other [[moving-pins]] table names (" + it->second->key + " names node " + std::to_string(node) + ")");
+           "a node no other [[moving-pins]] table names (" + it->second->key + " names node " + std::to_string(node) +
+               ")");
   }
   // The colliders were checked as they were read; here the floor's settings. That no collider
   // touches a pinned node at the start is drape::Cloth's check, when drape-render builds the cloth
@@ -763,7 +773,8 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
 
   app.add_option("--scene", s.scene, "TOML scene file; its keys are the flag names without '--'")->group("Scene");
   const char* sim = "Simulation";
-  bind.name("integrator", s.integrator, "rk2 (explicit midpoint) | implicit (linearised implicit Euler) | symplectic (semi-implicit Euler)", sim);
+  bind.name("integrator", s.integrator,
+            "rk2 (explicit midpoint) | implicit (linearised implicit Euler) | symplectic (semi-implicit Euler)", sim);
   bind.name("jacobian", i.jacobian, "implicit: " + drape::joined_names<drape::JacobianVariant>(" | "), sim);
   std::string solvers;
   for (drape::LinearSolverKind k : drape::available_solvers())
@@ -859,6 +870,18 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
              "else just below the box the camera frames",
              contact)
       ->default_str("auto");
+
+  const char* self = "Self-collision (docs/contact.md)";
+  drape::SelfCollisionSettings<double>& sc = c.self_collision;
+  bind.value("self-collision", sc.enabled,
+             "the cloth collides with itself: layers keep 2 x --contact-thickness apart and never pass through", self);
+  bind.value("self-friction", sc.friction, "Coulomb friction coefficient between layers, >= 0", self);
+  bind.value("self-impulse-rounds", sc.impulse_rounds,
+             "rounds of continuous collision tests with impulses before impact zones take over, [0, 64]", self);
+  bind.value("self-separation-rate", sc.separation_rate,
+             "fraction of the missing distance between layers closer than 2 x --contact-thickness restored per "
+             "step, (0, 1]",
+             self);
 
   const char* time = "Time line";
   CLI::Option* frames = bind.value("frames", s.time.frames, "frames to render, [1, 10000000]", time);
