@@ -27,6 +27,7 @@ const std::map<std::string, std::set<std::string>> allowed = {
     {"physics", {"core", "linalg", "collision", "physics"}},
     {"solvers", {"core", "linalg", "solvers"}},
     {"integrators", {"core", "linalg", "collision", "physics", "solvers", "integrators"}},
+    {"scene", {"core", "linalg", "collision", "physics", "solvers", "integrators", "scene"}},
     {"realtime", {"core", "realtime"}},
     {"io", {"core", "io"}},
 };

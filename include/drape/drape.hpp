@@ -23,6 +23,7 @@
 #include "drape/core/state.hpp"
 #include "drape/core/force_term.hpp"
 #include "drape/core/collider.hpp"
+#include "drape/core/placement.hpp"
 #include "drape/core/self_collision_settings.hpp"
 #include "drape/core/cloth.hpp"
 
@@ -76,6 +77,9 @@
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/make_integrator.hpp"
+
+// scene: several cloths stepped together, colliding with each other
+#include "drape/scene/cloth_scene.hpp"
 
 // realtime and io: pacing against the wall clock, files
 #include "drape/realtime/realtime_driver.hpp"

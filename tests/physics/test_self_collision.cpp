@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 
+#include "collision/cloth_shapes.hpp"
 #include "collision/mesh_checks.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/make_integrator.hpp"
@@ -18,8 +19,6 @@
 using namespace drape;
 
 namespace {
-
-constexpr double pi = 3.14159265358979323846;
 
 /// A free nx x ny cloth 0.1 m apart with light, damped springs, gravity 10, self-collision on.
 template <class S>
@@ -32,30 +31,6 @@ ClothSpec<S> folding_cloth(int nx, int ny) {
   spec.contact_thickness = S(0.01);
   spec.self_collision.enabled = true;
   return spec;
-}
-
-/// Positions of the cloth laid along a path in the (z, y) plane: node (i, j) at x = i h and at
-/// arc length j h along `path(s)` (returns (z, y)).
-template <class S>
-Matrix3X<S> laid_along(const Cloth<S>& cloth, const std::function<Eigen::Vector2d(double)>& path) {
-  const Grid<S>& grid = cloth.grid();
-  Matrix3X<S> x(3, grid.node_count());
-  for (int j = 0; j < grid.ny(); ++j)
-    for (int i = 0; i < grid.nx(); ++i) {
-      const Eigen::Vector2d zy = path(double(j) * double(grid.spacing()));
-      x.col(grid.node(i, j)) = Vec3<S>(S(double(i) * double(grid.spacing())), S(zy.y()), S(zy.x()));
-    }
-  return x;
-}
-
-/// Flat on the floor (y = y0) up to `fold`, half a turn of radius r, then back over itself.
-inline std::function<Eigen::Vector2d(double)> folded_path(double y0, double fold, double r) {
-  return [=](double s) -> Eigen::Vector2d {
-    if (s <= fold) return {s, y0};
-    const double a = (s - fold) / r;
-    if (a <= pi) return {fold + r * std::sin(a), y0 + r * (1 - std::cos(a))};
-    return {fold - (s - fold - pi * r), y0 + 2 * r};
-  };
 }
 
 template <class S>
@@ -110,7 +85,7 @@ TEMPLATE_TEST_CASE("self-collision: a cloth folded over itself falls onto its lo
     auto stepper = integrator(cloth, kind);
     State<S> state = cloth.initial_state();
     const double h = double(spec.contact_thickness);
-    state.positions = laid_along(cloth, folded_path(h, 0.9, 0.15));
+    state.positions = test::laid_along(cloth, test::folded_path(h, 0.9, 0.15));
     const RunCheck check = run_checked(*stepper, state, 1.5);
     CHECK(check.first_intersecting_step == -1);
     CHECK(check.unresolved == 0);
@@ -131,7 +106,7 @@ TEST_CASE("self-collision: without it the same fold passes through itself (the c
   const Clothd cloth(spec);
   auto stepper = integrator(cloth, IntegratorKind::Implicit);
   State<double> state = cloth.initial_state();
-  state.positions = laid_along(cloth, folded_path(spec.contact_thickness, 0.9, 0.15));
+  state.positions = test::laid_along(cloth, test::folded_path(spec.contact_thickness, 0.9, 0.15));
   const RunCheck check = run_checked(*stepper, state, 1.5);
   CHECK(check.first_intersecting_step >= 0);
 }
@@ -146,7 +121,7 @@ TEST_CASE("self-collision: a hanging cloth let fall onto a floor piles up in fol
     auto stepper = integrator(cloth, kind);
     State<double> state = cloth.initial_state();
     // Upright, its lower edge 5 cm above the floor, waved a little so that it buckles into folds.
-    state.positions = laid_along(cloth, [](double s) -> Eigen::Vector2d {
+    state.positions = test::laid_along(cloth, [](double s) -> Eigen::Vector2d {
       return {0.03 * std::sin(7.0 * s), 0.05 + s};
     });
     const RunCheck check = run_checked(*stepper, state, 2.0);
@@ -165,7 +140,7 @@ TEST_CASE("self-collision: impact zones alone keep the fold apart", "[self-colli
   const Clothd cloth(spec);
   auto stepper = integrator(cloth, IntegratorKind::Implicit);
   State<double> state = cloth.initial_state();
-  state.positions = laid_along(cloth, folded_path(spec.contact_thickness, 0.9, 0.15));
+  state.positions = test::laid_along(cloth, test::folded_path(spec.contact_thickness, 0.9, 0.15));
   const RunCheck check = run_checked(*stepper, state, 1.5);
   CHECK(check.first_intersecting_step == -1);
   CHECK(check.unresolved == 0);
@@ -183,7 +158,7 @@ TEST_CASE("self-collision: friction between layers slows an upper layer sliding 
     const Clothd cloth(spec);
     auto stepper = integrator(cloth, IntegratorKind::Implicit);
     State<double> state = cloth.initial_state();
-    state.positions = laid_along(cloth, folded_path(spec.contact_thickness, 0.9, 0.01));
+    state.positions = test::laid_along(cloth, test::folded_path(spec.contact_thickness, 0.9, 0.01));
     const Grid<double>& grid = cloth.grid();
     for (int node = 0; node < grid.node_count(); ++node)
       if (state.positions(1, node) > 0.015) state.velocities(0, node) = 1.0;
@@ -205,7 +180,7 @@ TEST_CASE("self-collision: same inputs give bit-identical states", "[self-collis
   auto a = integrator(cloth, IntegratorKind::Implicit);
   auto b = integrator(cloth, IntegratorKind::Implicit);
   State<double> sa = cloth.initial_state();
-  sa.positions = laid_along(cloth, folded_path(spec.contact_thickness, 0.9, 0.15));
+  sa.positions = test::laid_along(cloth, test::folded_path(spec.contact_thickness, 0.9, 0.15));
   State<double> sb = sa;
   for (int k = 0; k < 60; ++k) {
     REQUIRE(a->step(sa).ok());

@@ -14,6 +14,7 @@
 #include "drape/core/force_term.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/pins.hpp"
+#include "drape/core/placement.hpp"
 #include "drape/core/self_collision_settings.hpp"
 #include "drape/core/spring_set.hpp"
 #include "drape/core/state.hpp"
@@ -42,6 +43,8 @@ struct ClothSpec {
   Scalar contact_thickness = Scalar(0.005);
   /// The cloth against itself (core/self_collision_settings.hpp); off by default.
   SelfCollisionSettings<Scalar> self_collision;
+  /// Where the flat grid starts (core/placement.hpp); by default node 0 at the origin, in the x-z plane.
+  Placement<Scalar> placement;
 
   static constexpr SpringCoefficients<Scalar> default_springs() {
     return {{Scalar(20000), Scalar(10)}, {Scalar(5000), Scalar(5)}, {Scalar(500), Scalar(1)}};
@@ -62,6 +65,7 @@ struct ClothSpec {
     self_collision.validate();
     if (self_collision.enabled && !(contact_thickness > 0))
       detail::fail_argument("contact thickness", "0 with self-collision on", "> 0 (layers keep twice it apart)");
+    placement.validate();
   }
 };
 
@@ -77,14 +81,15 @@ class Cloth {
         m_force_terms(spec.force_terms),
         m_colliders(spec.colliders),
         m_contact_thickness(spec.contact_thickness),
-        m_self_collision(spec.self_collision) {
+        m_self_collision(spec.self_collision),
+        m_start_positions(spec.placement.apply(m_grid.rest_positions())) {
     require_pins_clear_of_colliders();
   }
 
   Cloth(Grid<Scalar> grid, SpringSet<Scalar> springs, Pins pins, const Vec3<Scalar>& gravity,
         std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms = {},
         std::vector<Collider<Scalar>> colliders = {}, Scalar contact_thickness = Scalar(0.005),
-        SelfCollisionSettings<Scalar> self_collision = {})
+        SelfCollisionSettings<Scalar> self_collision = {}, const Placement<Scalar>& placement = {})
       : m_grid(std::move(grid)),
         m_springs(std::move(springs)),
         m_pins(std::move(pins)),
@@ -93,6 +98,8 @@ class Cloth {
         m_colliders(std::move(colliders)),
         m_contact_thickness(contact_thickness),
         m_self_collision(self_collision) {
+    placement.validate();
+    m_start_positions = placement.apply(m_grid.rest_positions());
     if (m_pins.mask().size() != static_cast<std::size_t>(m_grid.node_count()))
       detail::fail_argument("pins", "a pin set for " + detail::to_text(m_pins.mask().size()) + " nodes",
                             "a pin set built for this grid's " + detail::to_text(m_grid.node_count()) + " nodes");
@@ -125,10 +132,14 @@ class Cloth {
     return std::max(Scalar(0.01) * m_contact_thickness, Scalar(64) * std::numeric_limits<Scalar>::epsilon());
   }
 
-  /// The model's start: undeformed, flat, horizontal, at rest, t = 0.
+  /// Node positions at the start: the flat grid, placed.
+  const Matrix3X<Scalar>& start_positions() const { return m_start_positions; }
+
+  /// The model's start: undeformed and flat where its placement puts it (by default horizontal at
+  /// height 0), at rest, t = 0.
   State<Scalar> initial_state() const {
     State<Scalar> s;
-    s.positions = m_grid.rest_positions();
+    s.positions = m_start_positions;
     s.velocities = Matrix3X<Scalar>::Zero(3, m_grid.node_count());
     return s;
   }
@@ -142,11 +153,12 @@ class Cloth {
   std::vector<Collider<Scalar>> m_colliders;
   Scalar m_contact_thickness;
   SelfCollisionSettings<Scalar> m_self_collision;
+  Matrix3X<Scalar> m_start_positions;
 
   /// \throws InvalidParameter naming `colliders[k]` if a pinned node starts closer than the
   /// contact thickness to collider k (it could never be pushed out).
   void require_pins_clear_of_colliders() const {
-    const Matrix3X<Scalar>& x = m_grid.rest_positions();
+    const Matrix3X<Scalar>& x = m_start_positions;
     for (std::size_t k = 0; k < m_colliders.size(); ++k)
       for (int p : m_pins.nodes())
         if (m_colliders[k].query(x.col(p), Scalar(0)).distance < m_contact_thickness)

@@ -98,6 +98,8 @@ class Integrator {
   /// between steps (core/pin_set.hpp). A pinned node ends each step on its path.
   PinSet<Scalar>& pins() { return m_pins; }
   const PinSet<Scalar>& pins() const { return m_pins; }
+  /// The contacts with the cloth's colliders (which nodes they held in the last step).
+  const ContactHandler<Scalar>& contact_handler() const { return m_contacts; }
   /// What the cloth's contacts did in the last step (empty without colliders).
   const ContactReport<Scalar>& contact_report() const { return m_contacts.report(); }
   /// What the cloth's self-collision did in the last step (empty when it is off).
@@ -106,7 +108,10 @@ class Integrator {
  protected:
   /// \throws InvalidParameter as IntegratorOptions::validate().
   Integrator(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
-      : m_cloth(&cloth), m_dt((options.validate(), Scalar(options.dt))), m_pins(cloth.pins()), m_contacts(cloth),
+      : m_cloth(&cloth),
+        m_dt((options.validate(), Scalar(options.dt))),
+        m_pins(cloth.pins()),
+        m_contacts(cloth),
         m_self_collisions(cloth) {
     set_dt(m_dt);  // the conversion to Scalar must not make it 0 or infinite
   }
@@ -126,9 +131,11 @@ class Integrator {
   /// with the colliders, then the cloth against itself.
   void respond_to_contacts(const State<Scalar>& state, Scalar dt, Matrix3X<Scalar>& x_new, Matrix3X<Scalar>& v_new) {
     m_contacts.respond(state.positions, state.velocities, state.time, dt, x_new, v_new, m_pins.mask());
+#ifndef DRAPE_BUILD_WITHOUT_SELF_COLLISION  // defined only by the test that off changes nothing
     if (m_self_collisions.active())
       m_self_collisions.respond(state.positions, dt, x_new, v_new, m_pins.mask(),
                                 [this](int i) { return m_contacts.holding_normal(i); });
+#endif
   }
 
  private:

@@ -51,17 +51,61 @@ struct SelfCollisionReport {
   bool failsafe() const { return zones > 0; }
 };
 
+namespace detail {
+
+/// True if the box around points[0, split) and the box around points[split, count) are more than
+/// `margin` apart along some axis: the two sides of a pair cannot touch (the exact tests are far
+/// dearer than this and most candidate pairs of the broad phase fail it).
+template <class Scalar, std::size_t count>
+bool sides_apart(const std::array<Vec3<Scalar>, count>& points, std::size_t split, Scalar margin) {
+  for (int axis = 0; axis < 3; ++axis) {
+    Scalar low_a = points[0][axis], high_a = low_a;
+    for (std::size_t j = 1; j < split; ++j) {
+      low_a = std::min(low_a, points[j][axis]);
+      high_a = std::max(high_a, points[j][axis]);
+    }
+    Scalar low_b = points[split][axis], high_b = low_b;
+    for (std::size_t j = split + 1; j < count; ++j) {
+      low_b = std::min(low_b, points[j][axis]);
+      high_b = std::max(high_b, points[j][axis]);
+    }
+    if (low_b - high_a > margin || low_a - high_b > margin) return true;
+  }
+  return false;
+}
+
+}  // namespace detail
+
 template <class Scalar = double>
 class SelfCollisionHandler {
  public:
-  explicit SelfCollisionHandler(const Cloth<Scalar>& cloth);
+  /// For `cloth` with its own settings and thickness.
+  explicit SelfCollisionHandler(const Cloth<Scalar>& cloth)
+      : SelfCollisionHandler(cloth.self_collision(), cloth.contact_thickness()) {
+    if (active()) build(cloth.grid().triangles(), cloth.grid().masses(), cloth.start_positions());
+  }
   SelfCollisionHandler(const Cloth<Scalar>&& cloth) = delete;
+  /// For any triangle mesh, e.g. several cloths as one (their node ids one after the other):
+  /// `masses` and `positions` (any pose, to shape the hierarchy) have a column per node.
+  /// \throws InvalidParameter as SelfCollisionSettings::validate().
+  SelfCollisionHandler(const SelfCollisionSettings<Scalar>& settings, Scalar contact_thickness,
+                       const std::vector<std::array<int, 3>>& triangles, const VectorX<Scalar>& masses,
+                       const Matrix3X<Scalar>& positions)
+      : SelfCollisionHandler(settings, contact_thickness) {
+    m_settings.validate();
+    if (active()) build(triangles, masses, positions);
+  }
 
   /// True if the cloth's self-collision is on (everything below is a no-op otherwise).
   bool active() const { return m_settings.enabled; }
   const SelfCollisionReport& report() const { return m_report; }
+  /// N s: the momentum each node received from cloth-cloth contacts in the last step (a column
+  /// per node; the colliders' and pins' share included). Each contact gives its nodes momenta that
+  /// sum to zero, so the sum over one cloth's nodes is what the other cloths pushed it with.
+  const Matrix3X<Scalar>& received_momentum() const { return m_received; }
 
-  /// On the step's result (`x_new`, `v_new`) from positions `x`: the three stages above.
+  /// On the step's result (`x_new`, `v_new`) from positions `x`: the three stages above. Only
+  /// when active(): callers skip the call when off, so off costs nothing.
   /// `pinned[i] != 0` marks pinned nodes; `held(i)` returns the unit normal of the collider
   /// holding node i this step, or nullptr.
   template <class Held>
@@ -76,6 +120,9 @@ class SelfCollisionHandler {
     std::array<Scalar, 4> alpha;
   };
 
+  SelfCollisionHandler(const SelfCollisionSettings<Scalar>& settings, Scalar contact_thickness);
+  void build(const std::vector<std::array<int, 3>>& triangles, const VectorX<Scalar>& masses,
+             const Matrix3X<Scalar>& positions);
   template <class Visit>
   void for_each_candidate(const Visit& visit);
   /// Moves the pair's ends so its gap along n grows by `gap` (> 0); returns the impulse size
@@ -109,6 +156,7 @@ class SelfCollisionHandler {
   Matrix3X<Scalar> m_held_normal;  // per node this step: the holding collider's normal, or 0
   Matrix3X<Scalar> m_x1;           // ends of the paths being corrected
   Matrix3X<Scalar> m_dv;           // velocity changes
+  Matrix3X<Scalar> m_received;     // momentum from contacts
   std::vector<std::array<int, 2>> m_triangle_pairs;
   std::vector<int> m_zone_parent;  // union-find over nodes, -1 = not in a zone
   std::vector<int> m_zone_members;
@@ -120,21 +168,33 @@ class SelfCollisionHandler {
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-SelfCollisionHandler<Scalar>::SelfCollisionHandler(const Cloth<Scalar>& cloth)
-    : m_settings(cloth.self_collision()),
-      m_layer_distance(Scalar(2) * cloth.contact_thickness()),
+SelfCollisionHandler<Scalar>::SelfCollisionHandler(const SelfCollisionSettings<Scalar>& settings,
+                                                   Scalar contact_thickness)
+    : m_settings(settings),
+      m_layer_distance(Scalar(2) * contact_thickness),
       m_impact_gap(Scalar(0.1) * m_layer_distance),
       m_impact_tolerance(
           std::max(Scalar(1e-3) * m_layer_distance, Scalar(64) * std::numeric_limits<Scalar>::epsilon())) {
-  if (!active()) return;
-  const Index n = cloth.node_count();
-  m_topology.emplace(static_cast<int>(n), cloth.grid().triangles());
-  m_bvh.emplace(*m_topology, cloth.grid().rest_positions());
-  m_mass = cloth.grid().masses();
+  if (active() && !(contact_thickness > 0 && std::isfinite(contact_thickness)))
+    detail::fail_argument("contact thickness", detail::to_text(contact_thickness),
+                          "finite and > 0 with self-collision on (layers keep twice it apart)");
+}
+
+template <class Scalar>
+void SelfCollisionHandler<Scalar>::build(const std::vector<std::array<int, 3>>& triangles,
+                                         const VectorX<Scalar>& masses, const Matrix3X<Scalar>& positions) {
+  const Index n = masses.size();
+  if (positions.cols() != n)
+    detail::fail_argument("positions", detail::to_text(positions.cols()) + " nodes",
+                          detail::to_text(n) + " (one per mass)");
+  m_topology.emplace(static_cast<int>(n), triangles);
+  m_bvh.emplace(*m_topology, positions);
+  m_mass = masses;
   m_inverse_mass.resize(n);
   m_held_normal.resize(3, n);
   m_x1.resize(3, n);
   m_dv.resize(3, n);
+  m_received.resize(3, n);
   m_zone_parent.assign(static_cast<std::size_t>(n), -1);
 }
 
@@ -178,6 +238,8 @@ Scalar SelfCollisionHandler<Scalar>::separate(const Pair& pair, const Vec3<Scala
   const Scalar k = effective_inverse_mass(pair, n);
   if (!(k > 0)) return 0;
   const Scalar impulse = gap / k;
+  if (change_velocity)
+    for (std::size_t j = 0; j < 4; ++j) m_received.col(pair.node[j]) += (pair.alpha[j] * impulse / dt) * n;
   for (std::size_t j = 0; j < 4; ++j) {
     const int i = pair.node[j];
     const Scalar w = m_inverse_mass[i];
@@ -222,6 +284,7 @@ void SelfCollisionHandler<Scalar>::proximity(const ConstRef3X<Scalar>& x, Scalar
     // Closest points where the pair ends (the ends move as earlier pairs are corrected).
     const Vec3<Scalar> e0 = m_x1.col(pair.node[0]), e1 = m_x1.col(pair.node[1]), e2 = m_x1.col(pair.node[2]),
                        e3 = m_x1.col(pair.node[3]);
+    if (detail::sides_apart(std::array<Vec3<Scalar>, 4>{e0, e1, e2, e3}, vertex_triangle ? 1 : 2, reach)) return;
     if (vertex_triangle) {
       const PointTriangleClosest<Scalar> c = closest_point_on_triangle(e0, e1, e2, e3);
       if (c.distance_squared >= reach * reach) return;
@@ -276,6 +339,13 @@ int SelfCollisionHandler<Scalar>::collisions(const ConstRef3X<Scalar>& x, Scalar
       start[j] = x.col(pair.node[j]);
       end[j] = m_x1.col(pair.node[j]);
     }
+    // The boxes swept by the pair's two sides over the step.
+    std::array<Vec3<Scalar>, 8> swept;
+    for (std::size_t j = 0; j < 4; ++j) {
+      swept[2 * j] = start[j];
+      swept[2 * j + 1] = end[j];
+    }
+    if (detail::sides_apart(swept, vertex_triangle ? 2 : 4, m_impact_tolerance)) return;
     const std::optional<Scalar> hit = vertex_triangle ? vertex_triangle_impact(start, end, m_impact_tolerance)
                                                       : edge_edge_impact(start, end, m_impact_tolerance);
     if (!hit) return;
@@ -407,6 +477,7 @@ void SelfCollisionHandler<Scalar>::move_zones_rigidly(const ConstRef3X<Scalar>& 
       const Vec3<Scalar> change = (m_inverse_mass[i] == 0) ? Vec3<Scalar>::Zero() : Vec3<Scalar>(moved - m_x1.col(i));
       m_x1.col(i) += change;
       m_dv.col(i) += change / dt;
+      m_received.col(i) += (m_mass[i] / dt) * change;
     }
   }
 }
@@ -417,7 +488,6 @@ void SelfCollisionHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, Scalar d
                                            Ref3X<Scalar> v_new, const std::vector<std::uint8_t>& pinned,
                                            const Held& held) {
   m_report = {};
-  if (!active()) return;
   const Index n = x.cols();
   for (Index i = 0; i < n; ++i) {
     m_inverse_mass[i] = pinned[std::size_t(i)] != 0 ? Scalar(0) : Scalar(1) / m_mass[i];
@@ -426,6 +496,7 @@ void SelfCollisionHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, Scalar d
   }
   m_x1 = x_new;
   m_dv.setZero();
+  m_received.setZero();
   // Proximity, then rounds of continuous tests, each followed by proximity again: the impulses of
   // a crossing leave its pair closer than 2h, which proximity restores before the next check.
   int found = 1;

@@ -1,0 +1,15 @@
+# cmake -DWITH=prog_a -DWITHOUT=prog_b -P same_output.cmake: fails unless both programs succeed and
+# print the same bytes (test_self_collision_off, tests/CMakeLists.txt).
+execute_process(COMMAND ${WITH} OUTPUT_VARIABLE with_out RESULT_VARIABLE with_code)
+execute_process(COMMAND ${WITHOUT} OUTPUT_VARIABLE without_out RESULT_VARIABLE without_code)
+if(NOT with_code EQUAL 0 OR NOT without_code EQUAL 0)
+  message(FATAL_ERROR "a probe failed: ${with_code} / ${without_code}")
+endif()
+string(LENGTH "${with_out}" length)
+if(length LESS 1000)
+  message(FATAL_ERROR "the probe printed too little (${length} bytes)")
+endif()
+if(NOT with_out STREQUAL without_out)
+  message(FATAL_ERROR "self-collision off changed the results: the outputs differ")
+endif()
+message(STATUS "identical outputs, ${length} bytes")
