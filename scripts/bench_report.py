@@ -325,6 +325,37 @@ def environment_section(results):
     return lines
 
 
+def self_collision_section(results):
+    """Issue 13's costs: the fold's step with self-collision on against off, and the broad phase per node."""
+    fold = [r for r in results if r.family == "fold_step"]
+    broad = sorted((r for r in results if r.family == "broad_phase"), key=lambda r: r.n)
+    if not fold and not broad:
+        return []
+    lines = ["## Self-collision (issue 13)", ""]
+    if fold:
+        sizes = sorted({r.n for r in fold})
+        lines += ["`fold_step`: one implicit step (dt = 1/60, 2 threads) of scenes/fold_on_sphere.toml's cloth at "
+                  "n x n nodes from the state it folded into after 1.5 s, self-collision on (`self:1`) and off "
+                  "(`self:0`) in the same run. Goal: on at most 3x off.", "",
+                  "| | " + " | ".join(f"{n} x {n}" for n in sizes) + " |", "|---|" + "---|" * len(sizes)]
+        on = {r.n: r for r in fold if r.attrs.get("self") == "1"}
+        off = {r.n: r for r in fold if r.attrs.get("self") == "0"}
+        lines.append("| off | " + " | ".join(fmt_time(off[n].median_ms) if n in off else "-" for n in sizes) + " |")
+        lines.append("| on (on / off) | " + " | ".join(
+            f"{fmt_time(on[n].median_ms)} ({on[n].median_ms / off[n].median_ms:.2f}x)" if n in on and n in off else "-"
+            for n in sizes) + " |")
+        lines.append("| proximity pairs per step | " + " | ".join(
+            f"{on[n].counter('proximity') or 0:.0f}" if n in on else "-" for n in sizes) + " |")
+        lines.append("")
+    if broad:
+        k = fit_exponent([(r.nodes, r.median_ms) for r in broad])
+        lines += ["`broad_phase`: one refit of the triangle BVH to a swept step and the overlapping triangle pairs of "
+                  "a cloth Z-folded three layers deep (serial): " + ", ".join(
+                      f"{fmt_time(r.median_ms)} at {r.n} x {r.n} ({1e6 * r.median_ms / r.nodes:.0f} ns per node)"
+                      for r in broad) + (f"; time ~ nodes^{k:.2f}." if k is not None else "."), ""]
+    return lines
+
+
 def baseline_for(results, r):
     """The baseline result comparable to r: same family, size and dt (and Jacobian family)."""
     if r.family not in ("force_assembly", "rk2_step", "symplectic_step", "implicit_step", "jacobian_assembly",
@@ -584,6 +615,7 @@ def main():
         out += family_table(results, family, baseline_for)
     out += speedup_table(results)
     out += environment_section(results)
+    out += self_collision_section(results)
 
     out += ["## Cost growth", "",
             "The `exponent` column of each table is the least-squares slope of log(time) against "
