@@ -36,6 +36,12 @@ template <class Scalar>
 class ImplicitEuler;
 template <class Scalar>
 class SymplecticEuler;
+template <class Scalar>
+struct SelfCollisionSettings;
+template <class Scalar>
+struct Placement;
+template <class Scalar>
+class ClothScene;
 class Pins;
 struct IntegratorOptions;
 struct ImplicitOptions;
@@ -62,5 +68,11 @@ using JacobianAssemblerd = JacobianAssembler<double>;
 using JacobianAssemblerf = JacobianAssembler<float>;
 using ImplicitEulerd = ImplicitEuler<double>;
 using ImplicitEulerf = ImplicitEuler<float>;
+using SelfCollisionSettingsd = SelfCollisionSettings<double>;
+using SelfCollisionSettingsf = SelfCollisionSettings<float>;
+using Placementd = Placement<double>;
+using Placementf = Placement<float>;
+using ClothScened = ClothScene<double>;
+using ClothScenef = ClothScene<float>;
 
 }  // namespace drape

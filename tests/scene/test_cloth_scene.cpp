@@ -155,6 +155,7 @@ TEMPLATE_TEST_CASE("cloth scene: two cloths stacked on a floor; the upper pushes
       floor_on_upper += double(scene.integrator(1).contact_report().normal_force.y()) / measure;
     }
     const double weight_upper = 81 * 0.01 * 10;
+    INFO("upper on lower " << -on_lower << " N, lower on upper " << on_upper << " N, weight " << weight_upper);
     CHECK(-on_lower == Approx(weight_upper).epsilon(0.01));
     CHECK(on_upper == Approx(weight_upper).epsilon(0.01));
     CHECK(floor_on_upper == 0);  // the upper one never reaches the floor
