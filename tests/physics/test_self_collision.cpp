@@ -6,7 +6,9 @@
 // keeps the cloth apart; friction between layers; determinism; bad input.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <memory>
 
@@ -133,18 +135,37 @@ TEST_CASE("self-collision: a hanging cloth let fall onto a floor piles up in fol
   }
 }
 
-TEST_CASE("self-collision: impact zones alone keep the fold apart", "[self-collision][failsafe]") {
-  ClothSpec<double> spec = folding_cloth<double>(9, 17);
-  spec.self_collision.impulse_rounds = 0;  // every crossing goes to the fail-safe
-  spec.colliders.push_back(Colliderd::plane(Vec3<double>::Zero(), Vec3<double>(0, 1, 0)));
-  const Clothd cloth(spec);
-  auto stepper = integrator(cloth, IntegratorKind::Implicit);
-  State<double> state = cloth.initial_state();
-  state.positions = test::laid_along(cloth, test::folded_path(spec.contact_thickness, 0.9, 0.15));
-  const RunCheck check = run_checked(*stepper, state, 1.5);
-  CHECK(check.first_intersecting_step == -1);
-  CHECK(check.unresolved == 0);
-  CHECK(check.failsafe_steps > 0);
+TEST_CASE("self-collision: impact zones alone keep a triangle from passing through another, momentum kept",
+          "[self-collision][failsafe]") {
+  // Two triangles 0.1 m apart; in one step the upper one would pass 0.2 m through the lower one.
+  // With no impulse rounds only the fail-safe acts: one zone moving rigidly, with the pair's
+  // momentum (equal masses: both move by the mean displacement).
+  SelfCollisionSettings<double> settings;
+  settings.enabled = true;
+  settings.impulse_rounds = 0;
+  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 4, 5}};
+  Matrix3X<double> x(3, 6);
+  x << 0, 1, 0, 0.2, 1.2, 0.2,  //
+      0, 0, 0, 0.1, 0.1, 0.1,   //
+      0, 0, 1, 0.2, 0.2, 1.2;
+  const VectorX<double> masses = VectorX<double>::Constant(6, 0.01);
+  SelfCollisionHandler<double> handler(settings, 0.005, triangles, masses, x);
+  const double dt = 0.01;
+  Matrix3X<double> v = Matrix3X<double>::Zero(3, 6);
+  v.rightCols(3).row(1).setConstant(-30.0);  // 0.3 m down over the step
+  Matrix3X<double> x_new = x + dt * v;
+  REQUIRE(x_new.rightCols(3).row(1).maxCoeff() < 0);  // without a response it ends below: passed through
+  const Vec3<double> momentum = v * masses;
+  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0), [](int) { return nullptr; });
+  CHECK(handler.report().zones == 1);
+  CHECK(handler.report().zone_nodes == 6);
+  CHECK(handler.report().unresolved == 0);
+  CHECK_FALSE(test::first_intersection(x_new, triangles).found);
+  // Still on its side of the lower triangle's plane (the zone turned: its pair's angular momentum).
+  const Vec3<double> a = x_new.col(0), normal = (x_new.col(1) - a).cross(x_new.col(2) - a);
+  for (int i = 3; i < 6; ++i) CHECK(normal.dot(x_new.col(i) - a) * normal.y() > 0);
+  CHECK((v * masses - momentum).norm() < 1e-12);
+  CHECK((x_new * masses - x * masses).y() / masses.sum() == Approx(-0.15));  // the centre of mass moved as before
 }
 
 TEST_CASE("self-collision: friction between layers slows an upper layer sliding over the lower", "[self-collision]") {

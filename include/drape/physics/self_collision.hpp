@@ -21,7 +21,8 @@
 ///     intersect at the start cannot make it intersect (the straight paths between two poses are an
 ///     affine map that stays invertible for rotations under pi), so this ends without crossings.
 /// A node's share of an impulse follows its inverse mass: pinned nodes take none, and a node
-/// held by a collider this step takes none along the collider's normal (the collider carries it).
+/// held by a collider this step and pushed into it moves only along its surface (the collider
+/// carries the rest); pushed away from it, it moves freely (a contact stops motion one way only).
 
 #include <algorithm>
 #include <array>
@@ -53,11 +54,11 @@ struct SelfCollisionReport {
 
 namespace detail {
 
-/// True if the box around points[0, split) and the box around points[split, count) are more than
+/// True if the box around points[0, split) and the box around points[split, Count) are more than
 /// `margin` apart along some axis: the two sides of a pair cannot touch (the exact tests are far
 /// dearer than this and most candidate pairs of the broad phase fail it).
-template <class Scalar, std::size_t count>
-bool sides_apart(const std::array<Vec3<Scalar>, count>& points, std::size_t split, Scalar margin) {
+template <class Scalar, std::size_t Count>
+bool sides_apart(const std::array<Vec3<Scalar>, Count>& points, std::size_t split, Scalar margin) {
   for (int axis = 0; axis < 3; ++axis) {
     Scalar low_a = points[0][axis], high_a = low_a;
     for (std::size_t j = 1; j < split; ++j) {
@@ -65,7 +66,7 @@ bool sides_apart(const std::array<Vec3<Scalar>, count>& points, std::size_t spli
       high_a = std::max(high_a, points[j][axis]);
     }
     Scalar low_b = points[split][axis], high_b = low_b;
-    for (std::size_t j = split + 1; j < count; ++j) {
+    for (std::size_t j = split + 1; j < Count; ++j) {
       low_b = std::min(low_b, points[j][axis]);
       high_b = std::max(high_b, points[j][axis]);
     }
@@ -137,10 +138,13 @@ class SelfCollisionHandler {
   void merge_zone(const Pair& pair);
   void move_zones_rigidly(const ConstRef3X<Scalar>& x, Scalar dt);
   int zone_root(int node);
-  /// The inverse mass of node i along the unit vector n.
-  Scalar inverse_mass_along(int i, const Vec3<Scalar>& n) const {
-    const Scalar normal = m_held_normal.col(i).dot(n);
-    return m_inverse_mass[i] * std::max(Scalar(0), Scalar(1) - normal * normal);
+  /// How node i may move when pushed along the unit vector d: freely, unless a collider holds it
+  /// and d points into that collider, then only along the collider's surface (a contact with a
+  /// collider stops motion into it, not away from it).
+  Vec3<Scalar> allowed_push(int i, const Vec3<Scalar>& d) const {
+    const Vec3<Scalar>& c = m_held_normal.col(i);
+    const Scalar into = c.dot(d);
+    return into < 0 ? Vec3<Scalar>(d - into * c) : d;
   }
   /// sum alpha_i^2 / m_i along n, 0 if colliders hold the pair along n.
   Scalar effective_inverse_mass(const Pair& pair, const Vec3<Scalar>& n) const;
@@ -225,11 +229,13 @@ Scalar SelfCollisionHandler<Scalar>::effective_inverse_mass(const Pair& pair, co
   Scalar k = 0, free = 0;
   for (std::size_t j = 0; j < 4; ++j) {
     const Scalar a2 = pair.alpha[j] * pair.alpha[j];
-    k += a2 * inverse_mass_along(pair.node[j], n);
+    const Vec3<Scalar> d = pair.alpha[j] < 0 ? Vec3<Scalar>(-n) : n;
+    k += a2 * m_inverse_mass[pair.node[j]] * allowed_push(pair.node[j], d).dot(d);
     free += a2 * m_inverse_mass[pair.node[j]];
   }
-  // Nodes that colliders hold along n: the pair cannot move that way (rounding aside).
-  return k > Scalar(1e-4) * free ? k : Scalar(0);
+  // Colliders hold the pair (nearly) along n: it cannot separate that way. Below 5% of its free
+  // mobility a push would be a slide of more than 4.5 times the gap along the colliders' surfaces.
+  return k > Scalar(0.05) * free ? k : Scalar(0);
 }
 
 template <class Scalar>
@@ -244,8 +250,8 @@ Scalar SelfCollisionHandler<Scalar>::separate(const Pair& pair, const Vec3<Scala
     const int i = pair.node[j];
     const Scalar w = m_inverse_mass[i];
     if (w == 0) continue;
-    const Vec3<Scalar>& c = m_held_normal.col(i);
-    const Vec3<Scalar> move = (pair.alpha[j] * impulse * w) * (n - c.dot(n) * c);
+    const Vec3<Scalar> d = pair.alpha[j] < 0 ? Vec3<Scalar>(-n) : n;
+    const Vec3<Scalar> move = (std::abs(pair.alpha[j]) * impulse * w) * allowed_push(i, d);
     m_x1.col(i) += move;
     if (change_velocity) m_dv.col(i) += move / dt;
   }

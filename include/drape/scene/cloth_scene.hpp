@@ -34,6 +34,7 @@ class ClothScene {
   int cloth_count() const { return static_cast<int>(m_cloths.size()); }
   const Cloth<Scalar>& cloth(int k) const { return *m_cloths[std::size_t(k)]; }
   Integrator<Scalar>& integrator(int k) { return *m_integrators[std::size_t(k)]; }
+  const Integrator<Scalar>& integrator(int k) const { return *m_integrators[std::size_t(k)]; }
   const State<Scalar>& state(int k) const { return m_states[std::size_t(k)]; }
   State<Scalar>& state(int k) { return m_states[std::size_t(k)]; }
   /// The first node of cloth k in the scene's numbering (the handler's mesh).
