@@ -1023,10 +1023,12 @@ fs::path obj_frame(const fs::path& dir, int k) {
 
 }  // namespace
 
-TEST_CASE("scenes/fold_on_sphere.toml and scenes/pile_on_floor.toml never pass through themselves", "[cli][self]") {
+TEST_CASE("scenes/fold_on_sphere.toml, pile_on_floor.toml and two_cloths_over_box.toml never pass through themselves",
+          "[cli][self]") {
   // Every step of the implicit run is a frame (--frame-time dt) written as OBJ (the state's exact
   // values); the symplectic run (at a stable dt for these light cloths, 0.2 ms; the fold's first
-  // 1.2 s, when its sides come down) is checked every 1/60 s. An exact
+  // 1.2 s, when its sides come down; the two cloths' first 1.0 s, when the upper one lands on the
+  // lower) is checked every 1/60 s. An exact
   // triangle-triangle test over all pairs of triangles that share no node (brute force) finds no
   // intersection in any of them.
   struct Run {
@@ -1037,7 +1039,9 @@ TEST_CASE("scenes/fold_on_sphere.toml and scenes/pile_on_floor.toml never pass t
   const std::string symplectic = "--integrator symplectic --frame-time " + dt;
   for (const Run& variant :
        {Run{"fold_on_sphere", "--frame-time " + dt}, Run{"fold_on_sphere", symplectic + " --dt 0.0002 --duration 1.2"},
-        Run{"pile_on_floor", "--frame-time " + dt}, Run{"pile_on_floor", symplectic + " --dt 0.0002"}}) {
+        Run{"pile_on_floor", "--frame-time " + dt}, Run{"pile_on_floor", symplectic + " --dt 0.0002"},
+        Run{"two_cloths_over_box", "--integrator implicit --dt " + dt + " --frame-time " + dt},
+        Run{"two_cloths_over_box", symplectic + " --duration 1.0"}}) {
     {
       const char* name = variant.name;
       INFO(name << " " << variant.flags);
@@ -1048,12 +1052,20 @@ TEST_CASE("scenes/fold_on_sphere.toml and scenes/pile_on_floor.toml never pass t
       INFO(r.output);
       REQUIRE(r.code == 0);
       const drape::render::Settings s = parse({"--scene", scene.string()});
-      const auto triangles = drape::Grid<double>(s.cloth.nx, s.cloth.ny, 1.0, 1.0).triangles();
+      // Every cloth's triangles, numbered as the OBJ frames number the vertices (cloth after cloth).
+      auto triangles = drape::Grid<double>(s.cloth.nx, s.cloth.ny, 1.0, 1.0).triangles();
+      int nodes = s.cloth.nx * s.cloth.ny;
+      for (const drape::render::ExtraCloth& more : s.extra_cloths) {
+        const drape::Grid<double> grid(more.nx.value_or(s.cloth.nx), more.ny.value_or(s.cloth.ny), 1.0, 1.0);
+        for (const std::array<int, 3>& t : grid.triangles())
+          triangles.push_back({t[0] + nodes, t[1] + nodes, t[2] + nodes});
+        nodes += grid.node_count();
+      }
       const std::vector<std::vector<double>> rows = csv_rows(dir / "out" / "log.csv");
       double closest = 1e9;
       for (std::size_t k = 0; k < rows.size(); ++k) {
         const drape::Matrix3X<double> x = obj_vertices(obj_frame(dir / "out", int(k)));
-        REQUIRE(x.cols() == s.cloth.nx * s.cloth.ny);
+        REQUIRE(x.cols() == nodes);
         INFO("frame " << k);
         REQUIRE_FALSE(drape::test::first_intersection(x, triangles).found);
         closest = std::min(closest, drape::test::min_nonadjacent_distance(x, triangles));
@@ -1072,6 +1084,43 @@ TEST_CASE("scenes/fold_on_sphere.toml and scenes/pile_on_floor.toml never pass t
       fs::remove_all(dir);
     }
   }
+}
+
+TEST_CASE("[[cloths]] tables: more cloths in the scene, their errors named by key", "[cli][cloths]") {
+  const fs::path dir = fresh_dir("cloths");
+  auto scene_with = [&](const std::string& table) {
+    std::ofstream(dir / "scene.toml") << "nx = 9\nny = 9\npins = []\nself-collision = true\n"
+                                         "[[cloths]]\n"
+                                      << table;
+    return "--scene " + (dir / "scene.toml").string() +
+           " --frames 3 --frame-time 0.02 --width 16 --height 16 "
+           "--samples 1 --obj --out " +
+           (dir / "out").string();
+  };
+  // Two cloths: the OBJ frames hold both, one after the other; the second starts where it was placed.
+  Result r = run(scene_with("nx = 5\nny = 4\nposition = [0.0, 0.5, 0.0]\nrotation = [0.0, 0.0, 90.0]\n"));
+  INFO(r.output);
+  REQUIRE(r.code == 0);
+  const drape::Matrix3X<double> x = obj_vertices(obj_frame(dir / "out", 0));
+  REQUIRE(x.cols() == 81 + 20);
+  CHECK((x.col(81 + 4) - drape::Vec3<double>(0, 0.9, 0)).norm() < 1e-9);  // node (4, 0): 0.4 m up the y axis
+  // Errors name the table and key.
+  r = run(scene_with("nx = 1\n"));
+  CHECK(r.code == 2);
+  CHECK_THAT(r.output, Catch::Contains("cloths[0].nx"));
+  r = run(scene_with("colour = 3\n"));
+  CHECK(r.code == 2);
+  CHECK_THAT(r.output, Catch::Contains("unknown key 'cloths[0].colour'"));
+  r = run(scene_with("pins = [99]\n"));
+  CHECK(r.code == 2);
+  CHECK_THAT(r.output, Catch::Contains("cloths[0].pins"));
+  r = run(scene_with("rotation = [0.0, nan, 0.0]\n"));
+  CHECK(r.code == 2);
+  CHECK_THAT(r.output, Catch::Contains("cloths[0].rotation"));
+  r = run(scene_with("nx = 5\n") + " --save-state " + (dir / "state").string());
+  CHECK(r.code == 2);
+  CHECK_THAT(r.output, Catch::Contains("--save-state"));
+  fs::remove_all(dir);
 }
 
 TEST_CASE("scenes/curtain.toml runs its whole length; its rings end on their last key positions", "[cli][pins]") {

@@ -103,9 +103,20 @@ GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(pr
 
 }  // namespace
 
+std::vector<std::array<float, 2>> ClothRenderer::grid_pattern(int nx, int ny) {
+  std::vector<std::array<float, 2>> pattern(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) pattern[static_cast<std::size_t>(j * nx + i)] = {float(i), float(j)};
+  return pattern;
+}
+
 ClothRenderer::ClothRenderer(int nx, int ny, const std::vector<std::array<int, 3>>& triangles,
                              const RenderSettings& settings)
-    : m_settings(settings), m_node_count(nx * ny), m_triangles(triangles) {
+    : ClothRenderer(grid_pattern(nx, ny), triangles, settings) {}
+
+ClothRenderer::ClothRenderer(const std::vector<std::array<float, 2>>& pattern,
+                             const std::vector<std::array<int, 3>>& triangles, const RenderSettings& settings)
+    : m_settings(settings), m_node_count(static_cast<int>(pattern.size())), m_triangles(triangles) {
   if (settings.width < 1 || settings.height < 1) throw std::invalid_argument("ClothRenderer: image size must be >= 1");
   m_vertex_data.assign(static_cast<std::size_t>(m_node_count) * 6, 0.0f);
 
@@ -137,15 +148,12 @@ ClothRenderer::ClothRenderer(int nx, int ny, const std::vector<std::array<int, 3
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
   glEnableVertexAttribArray(0);
   glEnableVertexAttribArray(1);
-  std::vector<float> grid(static_cast<std::size_t>(m_node_count) * 2);
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      grid[2 * static_cast<std::size_t>(j * nx + i)] = float(i);
-      grid[2 * static_cast<std::size_t>(j * nx + i) + 1] = float(j);
-    }
+  static_assert(sizeof(std::array<float, 2>) == 2 * sizeof(float), "pattern coordinates must be tightly packed");
+  const std::vector<std::array<float, 2>>& grid = pattern;
   glGenBuffers(1, &m_static_vbo);
   glBindBuffer(GL_ARRAY_BUFFER, m_static_vbo);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(grid.size() * sizeof(float)), grid.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(grid.size() * sizeof(std::array<float, 2>)), grid.data(),
+               GL_STATIC_DRAW);
   glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), reinterpret_cast<void*>(0));
   glEnableVertexAttribArray(2);
   glGenBuffers(1, &m_ebo);

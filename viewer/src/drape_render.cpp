@@ -27,6 +27,7 @@
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/realtime/realtime_driver.hpp"
+#include "drape/scene/cloth_scene.hpp"
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
 #include "drape/viewer/collider_mesh.hpp"
@@ -140,16 +141,26 @@ class FrameLog {
 
   bool enabled() const { return m_file != nullptr; }
 
-  void write(int frame, const drape::Clothd& cloth, const drape::Stated& state, double wall, int steps, double dropped,
-             double factor, long long iterations, double residual, const ContactColumns& c, double pin_reaction_y,
-             double air_power) {
+  /// The energies are summed over the scene's cloths, the strain is the largest of them.
+  void write(int frame, const drape::ClothScene<double>& scene, double wall, int steps, double dropped, double factor,
+             long long iterations, double residual, const ContactColumns& c, double pin_reaction_y, double air_power) {
     if (!m_file) return;
-    const double ek = drape::kinetic_energy(cloth, state);
-    const double es = drape::spring_potential_energy(cloth, state.positions);
-    const double eg = drape::gravitational_potential_energy(cloth, state.positions);
-    if (std::fprintf(m_file, "%d,%.9g,%.6f,%d,%.9g,%.6g,%.9g,%.9g,%.9g,%.9g,%.6g,%lld,%.3g", frame, state.time, wall,
-                     steps, dropped, factor, ek, es, eg, ek + es + eg, drape::max_strain(cloth, state.positions),
-                     iterations, residual) < 0 ||
+    double ek = 0, es = 0, eg = 0, strain = 0;
+    for (int k = 0; k < scene.cloth_count(); ++k) {
+      const drape::Clothd& cloth = scene.cloth(k);
+      const drape::Stated& state = scene.state(k);
+      const double cloth_ek = drape::kinetic_energy(cloth, state);
+      const double cloth_es = drape::spring_potential_energy(cloth, state.positions);
+      const double cloth_eg = drape::gravitational_potential_energy(cloth, state.positions);
+      const double cloth_strain = drape::max_strain(cloth, state.positions);
+      // The first cloth's values as they are (a sum from 0 would print its -0 as 0).
+      ek = k == 0 ? cloth_ek : ek + cloth_ek;
+      es = k == 0 ? cloth_es : es + cloth_es;
+      eg = k == 0 ? cloth_eg : eg + cloth_eg;
+      strain = k == 0 ? cloth_strain : std::max(strain, cloth_strain);
+    }
+    if (std::fprintf(m_file, "%d,%.9g,%.6f,%d,%.9g,%.6g,%.9g,%.9g,%.9g,%.9g,%.6g,%lld,%.3g", frame, scene.state(0).time,
+                     wall, steps, dropped, factor, ek, es, eg, ek + es + eg, strain, iterations, residual) < 0 ||
         std::fprintf(m_file, ",%d,%d,%d,%d,%d,%d,%.6g,%.9g,%.9g,%.9g,%.9g,%.9g", c.contacts, c.sticking, c.sliding,
                      c.corrected, c.after_solve, c.rounds, c.deepest, c.normal_force.norm(), c.normal_force.y(),
                      c.friction_force.norm(), pin_reaction_y, air_power) < 0 ||
@@ -253,26 +264,28 @@ class PinSchedule {
 class Run {
  public:
   /// `framed`: the box the fixed camera frames (framed_box()); `floor_y`: the floor's height.
-  Run(const Settings& s, const drape::Clothd& cloth, drape::Stated start, const drape::viewer::Bounds& framed,
-      double floor_y)
+  /// `cloth`: the first cloth (for the pins' reaction); `specs`: every cloth (render::cloth_specs()).
+  Run(const Settings& s, const drape::Clothd& cloth, const std::vector<drape::ClothSpecd>& specs, drape::Stated start,
+      const drape::viewer::Bounds& framed, double floor_y)
       : m_s(s),
         m_cloth(cloth),
-        m_integrator(drape::make_integrator(cloth, s.integrator, s.stepping)),
-        m_state(std::move(start)),
+        m_scene(specs, s.integrator, s.stepping, s.cloth.self_collision),
+        m_state(m_scene.state(0)),
         m_context(s.output.debug_gl ? drape::viewer::GlDebugSink(drape::viewer::print_gl_debug_message)
                                     : drape::viewer::GlDebugSink{}),
-        m_renderer(cloth.grid().nx(), cloth.grid().ny(), cloth.grid().triangles(), render_settings(s, cloth)),
+        m_renderer(scene_pattern(m_scene), scene_triangles(m_scene), render_settings(s, cloth)),
         m_fixed_camera(
             drape::viewer::frame_bounds(framed, aspect(s), float(s.output.azimuth), float(s.output.elevation))),
         m_follow(aspect(s), float(s.output.azimuth), float(s.output.elevation), float(floor_y)),
-        m_triangles(cloth.grid().triangles()),
+        m_triangles(scene_triangles(m_scene)),
         m_log(s.output.out + "/log.csv", !s.output.no_csv),
         m_progress(!s.output.quiet && ::isatty(STDERR_FILENO)),
-        m_t0(m_state.time),
-        m_previous_sim(m_t0),
         m_forces(cloth, 1),
         m_pin_schedule(s) {
-    m_pin_schedule.apply(m_state.time, m_integrator->dt(), m_integrator->pins());  // those due at the start
+    m_state = std::move(start);
+    m_t0 = m_state.time;
+    m_previous_sim = m_t0;
+    m_pin_schedule.apply(m_state.time, integrator().dt(), integrator().pins());  // those due at the start
     m_fixed_camera.floor_height = float(floor_y);
     m_renderer.set_camera(m_fixed_camera);
     // The colliders' meshes; a plane at the floor's height facing +y is the floor itself.
@@ -288,12 +301,12 @@ class Run {
     const int total =
         t.duration_given ? std::max(1, static_cast<int>(std::ceil(t.duration / t.frame_time - 1e-9)) + 1) : t.frames;
     m_total_frames = total;
-    draw(m_state.positions, m_state.time, {});
+    draw(all_positions(), m_state.time, {});
     for (int k = 1; k < total; ++k) {
       const long long target = std::llround(double(k) * t.frame_time / m_s.stepping.dt);
       FrameSteps done;
       while (m_steps_total < target) step(done);
-      draw(m_state.positions, m_state.time, done);
+      draw(all_positions(), m_state.time, done);
     }
     m_progress.finish();
   }
@@ -303,9 +316,9 @@ class Run {
   void realtime() {
     const drape::render::TimeLine& t = m_s.time;
     m_total_frames = t.frames;
-    draw(m_state.positions, m_state.time, {});
-    drape::RealtimeDriver<> driver(m_integrator->dt(), m_s.realtime);
-    drape::Matrix3X<double> previous = m_state.positions, between;
+    draw(all_positions(), m_state.time, {});
+    drape::RealtimeDriver<> driver(integrator().dt(), m_s.realtime);
+    drape::Matrix3X<double> previous = all_positions(), between;
     double previous_time = m_state.time;
     driver.start();
     while (t.duration_given ? m_state.time - m_t0 < t.duration : m_frame < t.frames) {
@@ -314,12 +327,12 @@ class Run {
       done.dropped = f.dropped;
       for (int k = 0; k < f.steps; ++k) {
         if (k == f.steps - 1) {
-          previous = m_state.positions;
+          previous = all_positions();
           previous_time = m_state.time;
         }
         step(done);
       }
-      between = previous + f.interpolation * (m_state.positions - previous);
+      between = previous + f.interpolation * (all_positions() - previous);
       draw(between, previous_time + f.interpolation * (m_state.time - previous_time), done);
     }
     m_progress.finish();
@@ -334,6 +347,37 @@ class Run {
 
  private:
   static float aspect(const Settings& s) { return float(s.output.width) / float(s.output.height); }
+
+  /// Every cloth's triangles as one mesh, node ids one cloth after the other (ClothScene::node_offset).
+  static std::vector<std::array<int, 3>> scene_triangles(const drape::ClothScene<double>& scene) {
+    std::vector<std::array<int, 3>> triangles;
+    for (int k = 0; k < scene.cloth_count(); ++k) {
+      const int offset = scene.node_offset(k);
+      for (const std::array<int, 3>& t : scene.cloth(k).grid().triangles())
+        triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    }
+    return triangles;
+  }
+  /// Every cloth's grid coordinates, for the checker pattern.
+  static std::vector<std::array<float, 2>> scene_pattern(const drape::ClothScene<double>& scene) {
+    std::vector<std::array<float, 2>> pattern;
+    for (int k = 0; k < scene.cloth_count(); ++k) {
+      const auto cloth =
+          drape::viewer::ClothRenderer::grid_pattern(scene.cloth(k).grid().nx(), scene.cloth(k).grid().ny());
+      pattern.insert(pattern.end(), cloth.begin(), cloth.end());
+    }
+    return pattern;
+  }
+  /// Every cloth's positions, one after the other (the first cloth's own matrix when it is alone).
+  const drape::Matrix3X<double>& all_positions() {
+    if (m_scene.cloth_count() == 1) return m_state.positions;
+    m_all.resize(3, m_scene.node_count());
+    for (int k = 0; k < m_scene.cloth_count(); ++k)
+      m_all.middleCols(m_scene.node_offset(k), m_scene.cloth(k).node_count()) = m_scene.state(k).positions;
+    return m_all;
+  }
+  drape::Integrator<double>& integrator() { return m_scene.integrator(0); }
+  const drape::Integrator<double>& integrator() const { return m_scene.integrator(0); }
   static drape::viewer::RenderSettings render_settings(const Settings& s, const drape::Clothd& cloth) {
     drape::viewer::RenderSettings rs;
     rs.width = s.output.width;
@@ -346,8 +390,8 @@ class Run {
 
   /// One step; a failed one ends the run (exit code 3), keeping the frames written.
   void step(FrameSteps& done) {
-    m_pin_schedule.apply(m_state.time, m_integrator->dt(), m_integrator->pins());
-    const drape::StepStatus status = m_integrator->step(m_state);
+    m_pin_schedule.apply(m_state.time, integrator().dt(), integrator().pins());
+    const drape::StepStatus status = m_scene.step();
     if (!status) {
       m_progress.finish();
       stop(exit_simulation_failed,
@@ -359,7 +403,7 @@ class Run {
     ++done.steps;
     done.iterations += status.iterations;
     done.residual = std::max(done.residual, status.residual);
-    const drape::ContactReport<double>& report = m_integrator->contact_report();
+    const drape::ContactReport<double>& report = integrator().contact_report();
     ContactColumns& c = done.contact;
     c.corrected += report.corrected;
     c.after_solve += report.after_solve;
@@ -367,7 +411,7 @@ class Run {
     c.deepest = std::max(c.deepest, report.deepest);
     c.normal_force += report.normal_force;
     c.friction_force += report.friction_force;
-    const drape::SelfCollisionReport& self = m_integrator->self_collision_report();
+    const drape::SelfCollisionReport& self = m_scene.collision_report();
     c.self_impacts += self.impacts;
     c.self_zone_steps += self.failsafe() ? 1 : 0;
     c.self_unresolved += self.unresolved;
@@ -376,12 +420,12 @@ class Run {
   /// The log's contact columns for a frame after `done`: the counts of the last step, the forces
   /// averaged over the frame's steps (a frame without steps repeats the last step's).
   ContactColumns contact_columns(const FrameSteps& done) const {
-    const drape::ContactReport<double>& report = m_integrator->contact_report();
+    const drape::ContactReport<double>& report = integrator().contact_report();
     ContactColumns c = done.contact;
     c.contacts = report.contacts;
     c.sticking = report.sticking;
     c.sliding = report.sliding;
-    c.self_proximity = m_integrator->self_collision_report().proximity_pairs;
+    c.self_proximity = m_scene.collision_report().proximity_pairs;
     if (done.steps > 0) {
       c.normal_force /= done.steps;
       c.friction_force /= done.steps;
@@ -396,7 +440,7 @@ class Run {
   /// power of the force terms besides springs and gravity (the air's), sum of f . v (W).
   /// The pins are the run's at the frame (the integrator's PinSet: with [[moving-pins]], those pinned now).
   std::pair<double, double> pin_reaction_y_and_air_power() {
-    const std::vector<int>& pinned = m_integrator->pins().nodes();
+    const std::vector<int>& pinned = integrator().pins().nodes();
     if (pinned.empty() && m_cloth.force_terms().empty()) return {0.0, 0.0};
     m_force.resize(3, m_cloth.node_count());
     double pin_y = 0;
@@ -462,7 +506,7 @@ class Run {
     const double factor = wall > m_previous_wall ? (m_state.time - m_previous_sim) / (wall - m_previous_wall) : 0.0;
     if (m_log.enabled()) {
       const auto [pin_y, air_power] = pin_reaction_y_and_air_power();
-      m_log.write(m_frame, m_cloth, m_state, wall, done.steps, done.dropped, factor, done.iterations, done.residual,
+      m_log.write(m_frame, m_scene, wall, done.steps, done.dropped, factor, done.iterations, done.residual,
                   contact_columns(done), pin_y, air_power);
     }
     m_previous_wall = wall;
@@ -478,8 +522,9 @@ class Run {
 
   const Settings& m_s;
   const drape::Clothd& m_cloth;
-  std::unique_ptr<drape::Integrator<double>> m_integrator;
-  drape::Stated m_state;
+  drape::ClothScene<double> m_scene;  // every cloth, its integrator and state; they collide when self-collision is on
+  drape::Stated& m_state;             // the first cloth's
+  drape::Matrix3X<double> m_all;      // every cloth's positions (all_positions())
   drape::viewer::OffscreenContext m_context;
   drape::viewer::ClothRenderer m_renderer;
   /// Frames the box the cloth can hang in; its floor height stays for the follow camera too.
@@ -488,9 +533,9 @@ class Run {
   std::vector<std::array<int, 3>> m_triangles;
   FrameLog m_log;
   ProgressBar m_progress;
-  const double m_t0;
+  double m_t0 = 0;
   const std::chrono::steady_clock::time_point m_wall_start = std::chrono::steady_clock::now();
-  double m_previous_sim;  // simulated time of the previous frame
+  double m_previous_sim = 0;  // simulated time of the previous frame
   double m_previous_wall = 0;
   int m_frame = 0;
   int m_total_frames = 1;
@@ -567,6 +612,11 @@ int run(const Settings& s) {
   const float aspect = float(s.output.width) / float(s.output.height);
   const std::optional<double> fixed_floor = drape::render::fixed_floor_height(s);
   drape::viewer::Bounds framed = framed_box(s, *cloth, start, s.floor.collider ? fixed_floor : std::nullopt);
+  const std::vector<drape::ClothSpecd> more = drape::render::cloth_specs(s, spec);
+  for (std::size_t k = 1; k < more.size(); ++k) {  // the [[cloths]], where they start
+    const drape::Matrix3X<double> x = drape::Clothd(more[k]).start_positions();
+    for (Eigen::Index i = 0; i < x.cols(); ++i) framed.extend(x.col(i).cast<float>());
+  }
   const double floor_y =
       fixed_floor
           ? *fixed_floor
@@ -576,9 +626,10 @@ int run(const Settings& s) {
     spec.colliders.push_back(drape::render::floor_collider(s, floor_y));
     cloth.emplace(drape::render::make_cloth(s, spec));
   }
+  const std::vector<drape::ClothSpecd> specs = drape::render::cloth_specs(s, spec);
   prepare_output_folder(s.output.out);
 
-  Run run(s, *cloth, std::move(start), framed, floor_y);
+  Run run(s, *cloth, specs, std::move(start), framed, floor_y);
   if (s.time.realtime)
     run.realtime();
   else

@@ -82,6 +82,8 @@ const std::map<std::string, std::string>& flag_of_parameter() {
       {"self friction", "--self-friction"},
       {"self impulse rounds", "--self-impulse-rounds"},
       {"self separation rate", "--self-separation-rate"},
+      {"placement.position", "--position"},
+      {"placement.rotation", "--rotation"},
   };
   return flags;
 }
@@ -452,6 +454,44 @@ void apply_pin_tables(const toml::node& node, Settings& s) {
   }
 }
 
+// ---- more cloths ([[cloths]] tables) ----------------------------------------------------------------
+
+/// One [[cloths]] table (`key` is "cloths[k]"): checks its keys and reads its values; the values
+/// are checked when the cloth is built from the first one (cloth_specs(), from validate()).
+ExtraCloth cloth_from_table(const toml::table& t, const std::string& key, const std::string& file) {
+  static const std::vector<std::string> allowed = {"nx", "ny", "spacing", "mass", "pins", "position", "rotation"};
+  for (const auto& [k, node] : t) {
+    const std::string name(k.str());
+    if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+      throw SettingsError("scene file '" + file + "': unknown key '" + key + "." + name + "'; a cloth has the keys " +
+                          joined(allowed) + " (the rest it takes from the first cloth)");
+  }
+  ExtraCloth c;
+  c.key = key;
+  if (const toml::node* n = t.get("nx")) c.nx = from_toml<int>(*n, key + ".nx", file);
+  if (const toml::node* n = t.get("ny")) c.ny = from_toml<int>(*n, key + ".ny", file);
+  if (const toml::node* n = t.get("spacing")) c.spacing = from_toml<double>(*n, key + ".spacing", file);
+  if (const toml::node* n = t.get("mass")) c.mass = from_toml<double>(*n, key + ".mass", file);
+  if (const toml::node* n = t.get("pins")) c.pins = from_toml<std::vector<int>>(*n, key + ".pins", file);
+  if (const toml::node* n = t.get("position"))
+    c.position = from_toml<std::array<double, 3>>(*n, key + ".position", file);
+  if (const toml::node* n = t.get("rotation"))
+    c.rotation = from_toml<std::array<double, 3>>(*n, key + ".rotation", file);
+  return c;
+}
+
+/// The scene file's [[cloths]]: an array of tables.
+void apply_cloth_tables(const toml::node& node, Settings& s) {
+  const toml::array* list = node.as_array();
+  if (!list) bad_key(s.scene, "cloths", "must be an array of tables ([[cloths]], one per cloth after the first)");
+  for (std::size_t k = 0; k < list->size(); ++k) {
+    const std::string key = "cloths[" + std::to_string(k) + "]";
+    const toml::table* table = (*list)[k].as_table();
+    if (!table) bad_key(s.scene, key, "must be a table ([[cloths]] with nx, ny, position, ...)");
+    s.extra_cloths.push_back(cloth_from_table(*table, key, s.scene));
+  }
+}
+
 /// --sphere X Y Z R (scene-file key `sphere = [x, y, z, r]`), after the file's colliders.
 void add_sphere(Settings& s) {
   if (s.sphere.empty()) return;
@@ -572,7 +612,8 @@ std::string key_in_table(const std::string& key) {
   throw SettingsError(
       "scene file '" + file + "': unknown key '" + key + "'" + hint +
       "; the keys are the flag names of --help without '--', the air's in the tables [air] and "
-      "[air.gusts], the colliders' in tables [[colliders]], the moving pins' in tables [[moving-pins]]");
+      "[air.gusts], the colliders' in tables [[colliders]], the moving pins' in tables [[moving-pins]], more "
+      "cloths in tables [[cloths]]");
 }
 
 /// Applies the keys of a scene-file table (`prefix` "" for the top level, "air." for [air], ...)
@@ -587,6 +628,10 @@ void apply_table(const toml::table& table, const std::string& prefix, std::map<s
     }
     if (key == "moving-pins") {  // [[moving-pins]]: no flag
       apply_pin_tables(node, s);
+      continue;
+    }
+    if (key == "cloths") {  // [[cloths]]: no flag
+      apply_cloth_tables(node, s);
       continue;
     }
     if (is_table_key(key)) {
@@ -640,6 +685,13 @@ void validate(const Settings& s, const FileKeys& from_file) {
       s.stepping.IntegratorOptions::validate();
   });
   checked([&] { s.realtime.validate(); });
+  if (!s.extra_cloths.empty()) {
+    (void)cloth_specs(s, s.cloth);
+    if (!s.load_state.empty())
+      fail("--load-state", "'" + s.load_state + "'", "a state of one cloth: not with [[cloths]]");
+    if (!s.output.save_state.empty())
+      fail("--save-state", "'" + s.output.save_state + "'", "a state of one cloth: not with [[cloths]]");
+  }
   checked([&] { s.air.validate(); }, from_file);
   // The [[moving-pins]] tables were checked as they were read; here their nodes against the grid (flags
   // may have changed nx and ny), one table per node.
@@ -750,6 +802,42 @@ int pin_node(const Settings& s, const PinSpec& pin) {
     fail(where + ".id", std::to_string(pin.id),
          "a node of the grid: an id in [0, " + std::to_string(nx * ny - 1) + "] (id = j*nx + i)");
   return pin.id;
+}
+
+std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::ClothSpecd& first) {
+  std::vector<drape::ClothSpecd> specs = {first};
+  for (const ExtraCloth& c : s.extra_cloths) {
+    drape::ClothSpecd spec = first;
+    spec.nx = c.nx.value_or(first.nx);
+    spec.ny = c.ny.value_or(first.ny);
+    spec.spacing = c.spacing.value_or(first.spacing);
+    spec.node_mass = c.mass.value_or(first.node_mass);
+    spec.pinned_nodes = c.pins;
+    spec.placement.position = vec3(c.position);
+    spec.placement.rotation_degrees = vec3(c.rotation);
+    const std::string where = "scene file '" + s.scene + "': " + c.key;
+    try {
+      spec.validate();
+      spec.force_terms.clear();  // the air's terms are built for a grid: this cloth's own
+      if (s.air.active()) {
+        const drape::Grid<double> grid(spec.nx, spec.ny, spec.spacing, spec.node_mass);
+        spec.force_terms = drape::air_force_terms<double>(s.air, grid.triangles());
+      }
+      (void)drape::Clothd(spec);  // pins clear of the colliders
+    } catch (const InvalidParameter& e) {
+      const std::map<std::string, std::string> key_of = {{"nx", "nx"},
+                                                         {"ny", "ny"},
+                                                         {"spacing", "spacing"},
+                                                         {"node_mass", "mass"},
+                                                         {"pinned node", "pins"},
+                                                         {"placement.position", "position"},
+                                                         {"placement.rotation", "rotation"}};
+      const auto it = key_of.find(e.parameter());
+      fail(where + "." + (it != key_of.end() ? it->second : e.parameter()), e.value(), e.allowed());
+    }
+    specs.push_back(std::move(spec));
+  }
+  return specs;
 }
 
 std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(const Settings& s) {
@@ -883,6 +971,12 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
              "step, (0, 1]",
              self);
 
+  const char* placement = "Placement and more cloths (scene file: also the tables [[cloths]], docs/viewer.md)";
+  bind.vector_as("--position", "position", s.position,
+                 "X Y Z: where the cloth's node 0 starts, m (the flat grid spans +x and +z from there)", placement);
+  bind.vector_as("--rotation", "rotation", s.rotation,
+                 "RX RY RZ: the flat grid turned by these degrees about x, then y, then z (fixed axes)", placement);
+
   const char* time = "Time line";
   CLI::Option* frames = bind.value("frames", s.time.frames, "frames to render, [1, 10000000]", time);
   CLI::Option* duration = bind.value(
@@ -937,6 +1031,8 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
     s.floor.height_given = s.floor.height_given || from_file.keys.count("floor-height") > 0;
   }
   add_sphere(s);
+  s.cloth.placement.position = vec3(s.position);
+  s.cloth.placement.rotation_degrees = vec3(s.rotation);
   validate(s, from_file);
   return true;
 }

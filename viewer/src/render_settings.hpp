@@ -14,7 +14,6 @@
 #include <string>
 #include <vector>
 
-
 #include "drape/core/cloth.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/core/pin_path.hpp"
@@ -85,11 +84,29 @@ struct PinSpec {
   std::optional<double> release;                   ///< s: freed at this time, > start
 };
 
+/// A table [[cloths]] of the scene file: one more cloth in the scene. It starts from the first
+/// cloth's settings (springs, mass per node, spacing, thickness, gravity, colliders, air) and has
+/// its own grid, pins and placement; a key it does not set keeps the first cloth's value, but
+/// `pins` (none by default: the cloth is free).
+struct ExtraCloth {
+  std::string key;  ///< "cloths[k]", for error messages
+  std::optional<int> nx, ny;
+  std::optional<double> spacing, mass;
+  std::vector<int> pins;                    ///< node ids, j*nx + i
+  std::array<double, 3> position{0, 0, 0};  ///< m: where its node 0 starts
+  std::array<double, 3> rotation{0, 0, 0};  ///< degrees about x, then y, then z
+};
+
 struct Settings {
   std::string scene;       ///< TOML file with the same keys as the flags
   std::string load_state;  ///< start from this saved state
 
-  drape::ClothSpecd cloth;  ///< the scene (library defaults)
+  drape::ClothSpecd cloth;                  ///< the scene (library defaults): the first cloth
+  std::array<double, 3> position{0, 0, 0};  ///< --position: the first cloth's placement (m)
+  std::array<double, 3> rotation{0, 0, 0};  ///< --rotation: degrees about x, then y, then z
+  /// The [[cloths]] tables of the scene file: more cloths, colliding with the first and each other
+  /// when --self-collision is on (drape::ClothScene).
+  std::vector<ExtraCloth> extra_cloths;
   drape::IntegratorKind integrator = drape::IntegratorKind::Rk2;
   drape::ImplicitOptions stepping;  ///< dt and threads (every integrator), the implicit options
   /// The driver's settings; the viewer caps at 200 steps per frame (the library's default is 64).
@@ -142,6 +159,10 @@ drape::Colliderd floor_collider(const Settings& s, double y);
 /// \throws SettingsError.
 drape::Clothd make_cloth(const Settings& s, const drape::ClothSpecd& spec);
 
+/// Every cloth of the scene: `first` (s.cloth with its force terms and the floor collider), then
+/// one per [[cloths]] table, built from `first` with its own grid, pins, placement and air.
+/// \throws SettingsError naming the table's key (cloths[k].nx).
+std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::ClothSpecd& first);
 /// The node id of `pin` in the grid of `s.cloth` (id = j*nx + i).
 /// \throws SettingsError naming moving-pins[k].node or moving-pins[k].id when the grid has no such node.
 int pin_node(const Settings& s, const PinSpec& pin);

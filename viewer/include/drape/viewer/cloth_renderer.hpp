@@ -47,7 +47,14 @@ class ClothRenderer {
   ///        the pattern's coordinates, node id = j * nx + i).
   /// \throws std::runtime_error if a shader fails to compile or the framebuffer is incomplete.
   ClothRenderer(int nx, int ny, const std::vector<std::array<int, 3>>& triangles, const RenderSettings& settings);
+  /// Any triangle mesh, e.g. several cloths drawn as one: `pattern` holds each vertex's grid
+  /// coordinates (i, j) for the checker pattern, one entry per vertex.
+  ClothRenderer(const std::vector<std::array<float, 2>>& pattern, const std::vector<std::array<int, 3>>& triangles,
+                const RenderSettings& settings);
   ~ClothRenderer();
+
+  /// The pattern coordinates of an nx x ny grid (node id = j * nx + i).
+  static std::vector<std::array<float, 2>> grid_pattern(int nx, int ny);
   ClothRenderer(const ClothRenderer&) = delete;
   ClothRenderer& operator=(const ClothRenderer&) = delete;
 
