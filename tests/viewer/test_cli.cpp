@@ -1111,6 +1111,9 @@ TEST_CASE("[[cloths]] tables: more cloths in the scene, their errors named by ke
   r = run(scene_with("colour = 3\n"));
   CHECK(r.code == 2);
   CHECK_THAT(r.output, Catch::Contains("unknown key 'cloths[0].colour'"));
+  r = run(scene_with("shear-kd = -1.0\n"));
+  CHECK(r.code == 2);
+  CHECK_THAT(r.output, Catch::Contains("cloths[0].shear-kd"));
   r = run(scene_with("pins = [99]\n"));
   CHECK(r.code == 2);
   CHECK_THAT(r.output, Catch::Contains("cloths[0].pins"));

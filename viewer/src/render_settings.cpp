@@ -459,7 +459,9 @@ void apply_pin_tables(const toml::node& node, Settings& s) {
 /// One [[cloths]] table (`key` is "cloths[k]"): checks its keys and reads its values; the values
 /// are checked when the cloth is built from the first one (cloth_specs(), from validate()).
 ExtraCloth cloth_from_table(const toml::table& t, const std::string& key, const std::string& file) {
-  static const std::vector<std::string> allowed = {"nx", "ny", "spacing", "mass", "pins", "position", "rotation"};
+  static const std::vector<std::string> allowed = {"nx",       "ny",       "spacing",       "mass",          "pins",
+                                                   "position", "rotation", "structural-ks", "structural-kd", "shear-ks",
+                                                   "shear-kd", "bend-ks",  "bend-kd"};
   for (const auto& [k, node] : t) {
     const std::string name(k.str());
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
@@ -473,6 +475,10 @@ ExtraCloth cloth_from_table(const toml::table& t, const std::string& key, const 
   if (const toml::node* n = t.get("spacing")) c.spacing = from_toml<double>(*n, key + ".spacing", file);
   if (const toml::node* n = t.get("mass")) c.mass = from_toml<double>(*n, key + ".mass", file);
   if (const toml::node* n = t.get("pins")) c.pins = from_toml<std::vector<int>>(*n, key + ".pins", file);
+  const char* spring_keys[] = {"structural-ks", "structural-kd", "shear-ks", "shear-kd", "bend-ks", "bend-kd"};
+  for (std::size_t k = 0; k < 6; ++k)
+    if (const toml::node* n = t.get(spring_keys[k]))
+      c.springs[k] = from_toml<double>(*n, key + "." + spring_keys[k], file);
   if (const toml::node* n = t.get("position"))
     c.position = from_toml<std::array<double, 3>>(*n, key + ".position", file);
   if (const toml::node* n = t.get("rotation"))
@@ -813,6 +819,11 @@ std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::Cloth
     spec.spacing = c.spacing.value_or(first.spacing);
     spec.node_mass = c.mass.value_or(first.node_mass);
     spec.pinned_nodes = c.pins;
+    double* springs[] = {&spec.springs.structural.stiffness, &spec.springs.structural.damping,
+                         &spec.springs.shear.stiffness,      &spec.springs.shear.damping,
+                         &spec.springs.bend.stiffness,       &spec.springs.bend.damping};
+    for (std::size_t k = 0; k < 6; ++k)
+      if (c.springs[k]) *springs[k] = *c.springs[k];
     spec.placement.position = vec3(c.position);
     spec.placement.rotation_degrees = vec3(c.rotation);
     const std::string where = "scene file '" + s.scene + "': " + c.key;
@@ -831,7 +842,13 @@ std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::Cloth
                                                          {"node_mass", "mass"},
                                                          {"pinned node", "pins"},
                                                          {"placement.position", "position"},
-                                                         {"placement.rotation", "rotation"}};
+                                                         {"placement.rotation", "rotation"},
+                                                         {"structural.stiffness", "structural-ks"},
+                                                         {"structural.damping", "structural-kd"},
+                                                         {"shear.stiffness", "shear-ks"},
+                                                         {"shear.damping", "shear-kd"},
+                                                         {"bend.stiffness", "bend-ks"},
+                                                         {"bend.damping", "bend-kd"}};
       const auto it = key_of.find(e.parameter());
       fail(where + "." + (it != key_of.end() ? it->second : e.parameter()), e.value(), e.allowed());
     }

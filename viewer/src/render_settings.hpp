@@ -86,12 +86,14 @@ struct PinSpec {
 
 /// A table [[cloths]] of the scene file: one more cloth in the scene. It starts from the first
 /// cloth's settings (springs, mass per node, spacing, thickness, gravity, colliders, air) and has
-/// its own grid, pins and placement; a key it does not set keeps the first cloth's value, but
-/// `pins` (none by default: the cloth is free).
+/// its own grid, springs, pins and placement; a key it does not set keeps the first cloth's value,
+/// but `pins` (none by default: the cloth is free).
 struct ExtraCloth {
   std::string key;  ///< "cloths[k]", for error messages
   std::optional<int> nx, ny;
   std::optional<double> spacing, mass;
+  /// structural-ks, structural-kd, shear-ks, shear-kd, bend-ks, bend-kd, in that order.
+  std::array<std::optional<double>, 6> springs;
   std::vector<int> pins;                    ///< node ids, j*nx + i
   std::array<double, 3> position{0, 0, 0};  ///< m: where its node 0 starts
   std::array<double, 3> rotation{0, 0, 0};  ///< degrees about x, then y, then z
