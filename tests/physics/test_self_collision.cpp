@@ -168,6 +168,38 @@ TEST_CASE("self-collision: impact zones alone keep a triangle from passing throu
   CHECK((x_new * masses - x * masses).y() / masses.sum() == Approx(-0.15));  // the centre of mass moved as before
 }
 
+TEST_CASE("self-collision: a layer pressing a collider-held node into its collider does not slide it",
+          "[self-collision][held]") {
+  // A flat triangle held by a collider whose normal leans 30 degrees from the triangle's (a
+  // cloth on a rounded edge); a node 8 mm above it (layer distance 10 mm) moving down. The collider
+  // carries the push: the held nodes stay where the step put them (a push slid along the
+  // collider's surface crept the lower of two stacked cloths off the box in the implicit step),
+  // and the upper node alone stops.
+  SelfCollisionSettings<double> settings;
+  settings.enabled = true;
+  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 4, 5}};
+  Matrix3X<double> x(3, 6);
+  x << 0, 0.1, 0, 0.02, 0.5, 0.5,  //
+      0, 0, 0, 0.008, 0.5, 0.6,    //
+      0, 0, 0.1, 0.02, 0.5, 0.6;
+  const VectorX<double> masses = VectorX<double>::Constant(6, 0.01);
+  SelfCollisionHandler<double> handler(settings, 0.005, triangles, masses, x);
+  const double dt = 0.01;
+  Matrix3X<double> v = Matrix3X<double>::Zero(3, 6);
+  v(1, 3) = -0.6;  // 6 mm down over the step: ends 2 mm above the triangle
+  Matrix3X<double> x_new = x + dt * v;
+  const Vec3<double> leaning(0.5, std::sqrt(0.75), 0.0);
+  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0),
+                  [&](int i) { return i < 3 ? &leaning : nullptr; });
+  CHECK(handler.report().repulsions > 0);
+  for (int i = 0; i < 3; ++i) {
+    CHECK((x_new.col(i) - x.col(i)).norm() < 1e-15);  // a slide would be millimetres
+    CHECK(v.col(i).norm() < 1e-13);
+  }
+  CHECK(x_new(1, 3) >= 0.008 - 1e-12);  // stopped at its start distance at least
+  CHECK(std::abs(x_new(0, 3) - 0.02) < 1e-15);
+}
+
 TEST_CASE("self-collision: friction between layers slows an upper layer sliding over the lower", "[self-collision]") {
   // The fold's upper layer rests on the lower one (pinned) and is thrown along the fold line (+x);
   // the fold's springs pull it back either way, friction between the layers slows it further.

@@ -599,7 +599,7 @@ std::vector<std::vector<double>> csv_rows(const fs::path& file) {
 }
 
 // Columns of log.csv.
-constexpr int col_contacts = 13, col_corrected = 16, col_after_solve = 17, col_deepest = 19, col_normal_y = 21,
+constexpr int col_max_strain = 10, col_contacts = 13, col_corrected = 16, col_after_solve = 17, col_deepest = 19, col_normal_y = 21,
               col_pin_y = 23, col_self_proximity = 25, col_self_unresolved = 28;
 
 }  // namespace
@@ -1036,13 +1036,16 @@ TEST_CASE("scenes/fold_on_sphere.toml, pile_on_floor.toml and two_cloths_over_bo
   struct Run {
     const char* name;
     std::string flags;
+    double max_strain = 1e30;  // the largest spring strain the log may show
   };
   const std::string dt = "0.0166666666666666667";
   const std::string symplectic = "--integrator symplectic --frame-time " + dt;
   for (const Run& variant :
        {Run{"fold_on_sphere", "--frame-time " + dt}, Run{"fold_on_sphere", symplectic + " --dt 0.0002 --duration 1.2"},
         Run{"pile_on_floor", "--frame-time " + dt}, Run{"pile_on_floor", symplectic + " --dt 0.0002"},
-        Run{"two_cloths_over_box", "--integrator implicit --dt " + dt + " --frame-time " + dt},
+        // Implicit: 0.68 measured; 4.6 when pushes from the upper layer slid the lower one's
+        // collider-held nodes along the box (docs/contact.md, "Limits").
+        Run{"two_cloths_over_box", "--integrator implicit --dt " + dt + " --frame-time " + dt, 0.9},
         Run{"two_cloths_over_box", symplectic + " --duration 1.0"}}) {
     {
       const char* name = variant.name;
@@ -1072,11 +1075,13 @@ TEST_CASE("scenes/fold_on_sphere.toml, pile_on_floor.toml and two_cloths_over_bo
         REQUIRE_FALSE(drape::test::first_intersection(x, triangles).found);
         closest = std::min(closest, drape::test::min_nonadjacent_distance(x, triangles));
       }
-      double proximity = 0, unresolved = 0;
+      double proximity = 0, unresolved = 0, strain = 0;
       for (const auto& row : rows) {
         proximity += row[col_self_proximity];
         unresolved += row[col_self_unresolved];
+        strain = std::max(strain, row[col_max_strain]);
       }
+      CHECK(strain < variant.max_strain);
       INFO("closest " << closest);
       // Guaranteed: the continuous test counts pairs closer than 0.1% of 2h as touching and the
       // step does not end until none is (docs/contact.md).

@@ -21,8 +21,8 @@
 ///     intersect at the start cannot make it intersect (the straight paths between two poses are an
 ///     affine map that stays invertible for rotations under pi), so this ends without crossings.
 /// A node's share of an impulse follows its inverse mass: pinned nodes take none, and a node
-/// held by a collider this step and pushed into it moves only along its surface (the collider
-/// carries the rest); pushed away from it, it moves freely (a contact stops motion one way only).
+/// held by a collider this step and pushed into it does not move (the collider and its friction
+/// carry the push); pushed away from it, it moves freely (a contact stops motion one way only).
 
 #include <algorithm>
 #include <array>
@@ -139,12 +139,13 @@ class SelfCollisionHandler {
   void move_zones_rigidly(const ConstRef3X<Scalar>& x, Scalar dt);
   int zone_root(int node);
   /// How node i may move when pushed along the unit vector d: freely, unless a collider holds it
-  /// and d points into that collider, then only along the collider's surface (a contact with a
-  /// collider stops motion into it, not away from it).
+  /// and d points into that collider, then not at all: the collider takes the normal part and its
+  /// friction the rest. (Sliding the node along the surface instead crept a cloth held on a box's
+  /// rounded edges out from under a layer resting on it, step by step, in the implicit step.)
   Vec3<Scalar> allowed_push(int i, const Vec3<Scalar>& d) const {
     const Vec3<Scalar>& c = m_held_normal.col(i);
     const Scalar into = c.dot(d);
-    return into < 0 ? Vec3<Scalar>(d - into * c) : d;
+    return into < 0 ? Vec3<Scalar>(Vec3<Scalar>::Zero()) : d;
   }
   /// sum alpha_i^2 / m_i along n, 0 if colliders hold the pair along n.
   Scalar effective_inverse_mass(const Pair& pair, const Vec3<Scalar>& n) const;
