@@ -645,6 +645,8 @@ def main():
     out += ["## Reproduce", "", "```sh", "scripts/bench.sh                      # build, run, regenerate this page",
             "DRAPE_BENCH_QUIET_WAIT=600 scripts/bench.sh   # first wait up to 10 min for an idle machine",
             "build/bench/bench/drape_bench --benchmark_filter=rk2_step   # one family, console only",
+            "build/bench/bench/drape_sim_second 33 65 129 257 --reference   # wall time per simulated second",
+            "build/bench/bench/drape_memory 33 65 129 257                    # heap bytes per node",
             "```", ""]
     open(args.markdown, "w").write("\n".join(out))
     if args.plot:
