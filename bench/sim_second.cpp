@@ -34,8 +34,8 @@ struct Timed {
   int failed_at = -1;  // first failed step, -1 if none
 };
 
-Timed time_runs(const drape::Cloth<double>& cloth, drape::IntegratorKind kind, double dt, int threads,
-                double simulated, int repetitions) {
+Timed time_runs(const drape::Cloth<double>& cloth, drape::IntegratorKind kind, double dt, int threads, double simulated,
+                int repetitions) {
   Timed out;
   out.steps = std::lround(simulated / dt);
   std::vector<double> walls;
@@ -120,8 +120,8 @@ int main(int argc, char** argv) {
       char dt_text[64];
       std::snprintf(dt_text, sizeof dt_text, "%.3g ms (%s)", row.dt * 1e3, row.how);
       if (t.failed_at >= 0) {
-        std::printf("| %d | %s | %s | %.0f | step %d failed | - |\n", n, drape::to_string(row.kind), dt_text, 1 / row.dt,
-                    t.failed_at);
+        std::printf("| %d | %s | %s | %.0f | step %d failed | - |\n", n, drape::to_string(row.kind), dt_text,
+                    1 / row.dt, t.failed_at);
         continue;
       }
       std::printf("| %d | %s | %s | %.0f | %s | %s |\n", n, drape::to_string(row.kind), dt_text, 1 / row.dt,

@@ -189,8 +189,7 @@ TEST_CASE("self-collision: a layer pressing a collider-held node into its collid
   v(1, 3) = -0.6;  // 6 mm down over the step: ends 2 mm above the triangle
   Matrix3X<double> x_new = x + dt * v;
   const Vec3<double> leaning(0.5, std::sqrt(0.75), 0.0);
-  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0),
-                  [&](int i) { return i < 3 ? &leaning : nullptr; });
+  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0), [&](int i) { return i < 3 ? &leaning : nullptr; });
   CHECK(handler.report().repulsions > 0);
   for (int i = 0; i < 3; ++i) {
     CHECK((x_new.col(i) - x.col(i)).norm() < 1e-15);  // a slide would be millimetres

@@ -599,8 +599,8 @@ std::vector<std::vector<double>> csv_rows(const fs::path& file) {
 }
 
 // Columns of log.csv.
-constexpr int col_max_strain = 10, col_contacts = 13, col_corrected = 16, col_after_solve = 17, col_deepest = 19, col_normal_y = 21,
-              col_pin_y = 23, col_self_proximity = 25, col_self_unresolved = 28;
+constexpr int col_max_strain = 10, col_contacts = 13, col_corrected = 16, col_after_solve = 17, col_deepest = 19,
+              col_normal_y = 21, col_pin_y = 23, col_self_proximity = 25, col_self_unresolved = 28;
 
 }  // namespace
 
