@@ -156,7 +156,7 @@ TEST_CASE("self-collision: impact zones alone keep a triangle from passing throu
   Matrix3X<double> x_new = x + dt * v;
   REQUIRE(x_new.rightCols(3).row(1).maxCoeff() < 0);  // without a response it ends below: passed through
   const Vec3<double> momentum = v * masses;
-  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0), [](int) { return nullptr; });
+  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0), [](int) { return ColliderHold<double>{}; });
   CHECK(handler.report().zones == 1);
   CHECK(handler.report().zone_nodes == 6);
   CHECK(handler.report().unresolved == 0);
@@ -188,8 +188,9 @@ TEST_CASE("self-collision: a layer pressing a collider-held node into its collid
   Matrix3X<double> v = Matrix3X<double>::Zero(3, 6);
   v(1, 3) = -0.6;  // 6 mm down over the step: ends 2 mm above the triangle
   Matrix3X<double> x_new = x + dt * v;
-  const Vec3<double> leaning(0.5, std::sqrt(0.75), 0.0);
-  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0), [&](int i) { return i < 3 ? &leaning : nullptr; });
+  const ColliderHold<double> leaning{Vec3<double>(0.5, std::sqrt(0.75), 0.0), 0.5};  // rougher than the layers
+  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0),
+                  [&](int i) { return i < 3 ? leaning : ColliderHold<double>{}; });
   CHECK(handler.report().repulsions > 0);
   for (int i = 0; i < 3; ++i) {
     CHECK((x_new.col(i) - x.col(i)).norm() < 1e-15);  // a slide would be millimetres
@@ -197,6 +198,51 @@ TEST_CASE("self-collision: a layer pressing a collider-held node into its collid
   }
   CHECK(x_new(1, 3) >= 0.008 - 1e-12);  // stopped at its start distance at least
   CHECK(std::abs(x_new(0, 3) - 0.02) < 1e-15);
+}
+
+TEST_CASE(
+    "self-collision: a layer's friction drags a collider-held node only along a collider smoother than the layers",
+    "[self-collision][held]") {
+  // A flat triangle lying on a floor (held, normal +y); a node 8 mm above it (layer distance
+  // 10 mm) moving down and along +x. Friction between the layers (0.4) acts on the pair. On a
+  // floor rougher than that (0.5) the floor's friction carries the drag: the held triangle stays
+  // and the upper node alone slows. On a floor smoother than that (0.1) the drag slides the
+  // triangle along the floor, never into it; the pair's momentum along x is kept.
+  SelfCollisionSettings<double> settings;
+  settings.enabled = true;
+  settings.friction = 0.4;
+  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 4, 5}};
+  Matrix3X<double> x(3, 6);
+  x << 0, 0.1, 0, 0.02, 0.5, 0.5,  //
+      0, 0, 0, 0.008, 0.5, 0.6,    //
+      0, 0, 0.1, 0.02, 0.5, 0.6;
+  const VectorX<double> masses = VectorX<double>::Constant(6, 0.01);
+  const double dt = 0.01;
+  auto drag = [&](double floor_friction) {
+    SelfCollisionHandler<double> handler(settings, 0.005, triangles, masses, x);
+    Matrix3X<double> v = Matrix3X<double>::Zero(3, 6);
+    v(1, 3) = -0.6;  // 6 mm down over the step: ends 2 mm above the triangle
+    v(0, 3) = 0.5;
+    Matrix3X<double> x_new = x + dt * v;
+    const ColliderHold<double> floor{Vec3<double>(0, 1, 0), floor_friction};
+    handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0),
+                    [&](int i) { return i < 3 ? floor : ColliderHold<double>{}; });
+    CHECK(handler.report().repulsions > 0);
+    return std::make_pair(x_new, v);
+  };
+  const auto [x_rough, v_rough] = drag(0.5);
+  for (int i = 0; i < 3; ++i) {
+    CHECK((x_rough.col(i) - x.col(i)).norm() < 1e-15);  // a drag would be millimetres
+    CHECK(v_rough.col(i).norm() < 1e-13);
+  }
+  CHECK(v_rough(0, 3) < 0.5 - 1e-3);  // the upper node slowed: the floor held its layer still
+  const auto [x_smooth, v_smooth] = drag(0.1);
+  for (int i = 0; i < 3; ++i) {
+    CHECK(v_smooth(0, i) > 1e-3);                        // dragged along +x
+    CHECK(x_smooth(1, i) == Approx(0.0).margin(1e-15));  // not into the floor, not off it
+  }
+  CHECK(v_smooth(0, 3) < 0.5 - 1e-3);
+  CHECK((v_smooth.row(0) * masses).value() == Approx(0.5 * 0.01).epsilon(1e-12));
 }
 
 TEST_CASE("self-collision: friction between layers slows an upper layer sliding over the lower", "[self-collision]") {

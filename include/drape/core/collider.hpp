@@ -86,6 +86,14 @@ struct ColliderContact {
   Vec3<Scalar> velocity;  ///< velocity of the collider's material point at the query point (m/s)
 };
 
+/// How a collider holds a node in contact this step (what a layer pressing on the node meets).
+template <class Scalar>
+struct ColliderHold {
+  Vec3<Scalar> normal = Vec3<Scalar>::Zero();  ///< the collider's outward unit normal; zero: not held
+  Scalar static_friction = 0;                  ///< the collider's static friction coefficient
+  bool held() const { return normal.squaredNorm() > 0; }
+};
+
 /// A rigid shape the cloth cannot enter. Each shape is defined in its local frame, which the
 /// motion's pose places in the world:
 ///  - plane: the half-space y <= 0 (outward normal +y);

@@ -134,7 +134,7 @@ class Integrator {
 #ifndef DRAPE_BUILD_WITHOUT_SELF_COLLISION  // defined only by the test that off changes nothing
     if (m_self_collisions.active())
       m_self_collisions.respond(state.positions, dt, x_new, v_new, m_pins.mask(),
-                                [this](int i) { return m_contacts.holding_normal(i); });
+                                [this](int i) { return m_contacts.hold(i); });
 #endif
   }
 

@@ -66,10 +66,12 @@ class ContactHandler {
   /// True if the scene has colliders (everything below is then a no-op otherwise).
   bool active() const { return !m_cloth->colliders().empty(); }
   const ContactReport<Scalar>& report() const { return m_report; }
-  /// After respond(): the unit normal of the collider node `i` touches this step, or nullptr.
-  const Vec3<Scalar>* holding_normal(int i) const {
+  /// After respond(): how the collider node `i` touches this step holds it (not held: zero normal).
+  ColliderHold<Scalar> hold(int i) const {
     const int slot = m_slot[static_cast<std::size_t>(i)];
-    return slot < 0 ? nullptr : &m_contacts[static_cast<std::size_t>(slot)].normal;
+    if (slot < 0) return {};
+    const Contact& contact = m_contacts[static_cast<std::size_t>(slot)];
+    return {contact.normal, m_cloth->colliders()[static_cast<std::size_t>(contact.collider)].static_friction()};
   }
 
   /// Implicit step, before the first solve: the nodes that touch a collider, or would reach one

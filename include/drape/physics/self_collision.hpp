@@ -20,9 +20,12 @@
 ///     momentum kept), merged further while crossings remain. A rigid motion of a zone that did not
 ///     intersect at the start cannot make it intersect (the straight paths between two poses are an
 ///     affine map that stays invertible for rotations under pi), so this ends without crossings.
-/// A node's share of an impulse follows its inverse mass: pinned nodes take none, and a node
-/// held by a collider this step and pushed into it does not move (the collider and its friction
-/// carry the push); pushed away from it, it moves freely (a contact stops motion one way only).
+/// A node's share of an impulse follows its inverse mass: pinned nodes take none. A node held by
+/// a collider this step moves only away from it (a contact stops motion one way only), and along
+/// its surface only if the collider's static friction is below the layers' friction: otherwise
+/// the collider's friction carries the layer's tangential push, since the collider's normal
+/// force on the node is at least the layer's (the layer presses it on) and its coefficient at
+/// least as large.
 
 #include <algorithm>
 #include <array>
@@ -107,8 +110,8 @@ class SelfCollisionHandler {
 
   /// On the step's result (`x_new`, `v_new`) from positions `x`: the three stages above. Only
   /// when active(): callers skip the call when off, so off costs nothing.
-  /// `pinned[i] != 0` marks pinned nodes; `held(i)` returns the unit normal of the collider
-  /// holding node i this step, or nullptr.
+  /// `pinned[i] != 0` marks pinned nodes; `held(i)` returns how a collider holds node i this
+  /// step (ColliderHold: zero normal if none).
   template <class Held>
   void respond(const ConstRef3X<Scalar>& x, Scalar dt, Ref3X<Scalar> x_new, Ref3X<Scalar> v_new,
                const std::vector<std::uint8_t>& pinned, const Held& held);
@@ -138,14 +141,18 @@ class SelfCollisionHandler {
   void merge_zone(const Pair& pair);
   void move_zones_rigidly(const ConstRef3X<Scalar>& x, Scalar dt);
   int zone_root(int node);
-  /// How node i may move when pushed along the unit vector d: freely, unless a collider holds it
-  /// and d points into that collider, then not at all: the collider takes the normal part and its
-  /// friction the rest. (Sliding the node along the surface instead crept a cloth held on a box's
-  /// rounded edges out from under a layer resting on it, step by step, in the implicit step.)
+  /// How node i moves when pushed along the unit vector d: freely unless a collider holds it;
+  /// held, only the part of d away from the collider, plus the part along its surface if the
+  /// collider's friction cannot carry it (see the file comment). (Letting a layer's pushes slide
+  /// held nodes along a rough collider crept a cloth on a box's rounded edges out from under the
+  /// layer resting on it and dragged it down the box's sides, step by step, in the implicit step.)
   Vec3<Scalar> allowed_push(int i, const Vec3<Scalar>& d) const {
-    const Vec3<Scalar>& c = m_held_normal.col(i);
-    const Scalar into = c.dot(d);
-    return into < 0 ? Vec3<Scalar>(Vec3<Scalar>::Zero()) : d;
+    const Vec3<Scalar> c = m_held_normal.col(i);
+    if (c.squaredNorm() == 0) return d;
+    const Scalar away = c.dot(d);
+    Vec3<Scalar> push = away > 0 ? Vec3<Scalar>(away * c) : Vec3<Scalar>(Vec3<Scalar>::Zero());
+    if (m_held_slides[std::size_t(i)] != 0) push += d - away * c;
+    return push;
   }
   /// sum alpha_i^2 / m_i along n, 0 if colliders hold the pair along n.
   Scalar effective_inverse_mass(const Pair& pair, const Vec3<Scalar>& n) const;
@@ -157,11 +164,12 @@ class SelfCollisionHandler {
   std::optional<MeshTopology> m_topology;
   std::optional<TriangleBvh<Scalar>> m_bvh;
   VectorX<Scalar> m_mass;
-  VectorX<Scalar> m_inverse_mass;  // per node this step: 0 for pinned ones
-  Matrix3X<Scalar> m_held_normal;  // per node this step: the holding collider's normal, or 0
-  Matrix3X<Scalar> m_x1;           // ends of the paths being corrected
-  Matrix3X<Scalar> m_dv;           // velocity changes
-  Matrix3X<Scalar> m_received;     // momentum from contacts
+  VectorX<Scalar> m_inverse_mass;           // per node this step: 0 for pinned ones
+  Matrix3X<Scalar> m_held_normal;           // per node this step: the holding collider's normal, or 0
+  std::vector<std::uint8_t> m_held_slides;  // per held node: its collider's friction is below the layers'
+  Matrix3X<Scalar> m_x1;                    // ends of the paths being corrected
+  Matrix3X<Scalar> m_dv;                    // velocity changes
+  Matrix3X<Scalar> m_received;              // momentum from contacts
   std::vector<std::array<int, 2>> m_triangle_pairs;
   std::vector<int> m_zone_parent;  // union-find over nodes, -1 = not in a zone
   std::vector<int> m_zone_members;
@@ -197,6 +205,7 @@ void SelfCollisionHandler<Scalar>::build(const std::vector<std::array<int, 3>>& 
   m_mass = masses;
   m_inverse_mass.resize(n);
   m_held_normal.resize(3, n);
+  m_held_slides.assign(std::size_t(n), 0);
   m_x1.resize(3, n);
   m_dv.resize(3, n);
   m_received.resize(3, n);
@@ -498,8 +507,9 @@ void SelfCollisionHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, Scalar d
   const Index n = x.cols();
   for (Index i = 0; i < n; ++i) {
     m_inverse_mass[i] = pinned[std::size_t(i)] != 0 ? Scalar(0) : Scalar(1) / m_mass[i];
-    const Vec3<Scalar>* normal = held(static_cast<int>(i));
-    m_held_normal.col(i) = normal != nullptr ? *normal : Vec3<Scalar>::Zero();
+    const ColliderHold<Scalar> hold = held(static_cast<int>(i));
+    m_held_normal.col(i) = hold.normal;
+    m_held_slides[std::size_t(i)] = hold.held() && hold.static_friction < m_settings.friction;
   }
   m_x1 = x_new;
   m_dv.setZero();

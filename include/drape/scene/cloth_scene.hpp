@@ -156,7 +156,7 @@ StepStatus ClothScene<Scalar>::step() {
     }
     m_collisions.respond(m_x0, m_integrators.front()->dt(), m_x1, m_v1, m_pinned, [this](int i) {
       const int k = m_cloth_of_node[std::size_t(i)];
-      return m_integrators[std::size_t(k)]->contact_handler().holding_normal(i - m_offset[std::size_t(k)]);
+      return m_integrators[std::size_t(k)]->contact_handler().hold(i - m_offset[std::size_t(k)]);
     });
     if (!(m_x1.allFinite() && m_v1.allFinite())) status.error = StepError::NonFiniteState;
     for (std::size_t k = 0; k < m_states.size() && status.ok(); ++k) {
