@@ -25,6 +25,7 @@
 
 #include "drape/integrators/make_integrator.hpp"
 #include "stability.hpp"
+#include "tool_text.hpp"
 
 namespace {
 
@@ -56,17 +57,6 @@ Timed time_runs(const drape::Cloth<double>& cloth, drape::IntegratorKind kind, d
   std::sort(walls.begin(), walls.end());
   out.seconds_per_simulated_second = walls[walls.size() / 2] / (double(out.steps) * dt);
   return out;
-}
-
-std::string duration(double seconds) {
-  char text[32];
-  if (seconds >= 1)
-    std::snprintf(text, sizeof text, "%.2f s", seconds);
-  else if (seconds >= 1e-3)
-    std::snprintf(text, sizeof text, "%.3g ms", seconds * 1e3);
-  else
-    std::snprintf(text, sizeof text, "%.3g us", seconds * 1e6);
-  return text;
 }
 
 }  // namespace
@@ -125,8 +115,8 @@ int main(int argc, char** argv) {
         continue;
       }
       std::printf("| %d | %s | %s | %.0f | %s | %s |\n", n, drape::to_string(row.kind), dt_text, 1 / row.dt,
-                  duration(t.seconds_per_simulated_second).c_str(),
-                  duration(t.seconds_per_simulated_second * row.dt).c_str());
+                  drape_bench::duration(t.seconds_per_simulated_second).c_str(),
+                  drape_bench::duration(t.seconds_per_simulated_second * row.dt).c_str());
       std::fflush(stdout);
     }
   }

@@ -647,6 +647,7 @@ def main():
             "build/bench/bench/drape_bench --benchmark_filter=rk2_step   # one family, console only",
             "build/bench/bench/drape_sim_second 33 65 129 257 --reference   # wall time per simulated second",
             "build/bench/bench/drape_memory 33 65 129 257                    # heap bytes per node",
+            "build/bench/bench/drape_refinement                               # refinement study: CG iterations against n",
             "```", ""]
     open(args.markdown, "w").write("\n".join(out))
     if args.plot:
