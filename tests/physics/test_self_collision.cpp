@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <utility>
 
 #include "collision/cloth_shapes.hpp"
 #include "collision/mesh_checks.hpp"
@@ -73,6 +74,29 @@ RunCheck run_checked(Integrator<S>& integrator, State<S>& state, double seconds)
 }
 
 const IntegratorKind all_integrators[] = {IntegratorKind::Implicit, IntegratorKind::Symplectic, IntegratorKind::Rk2};
+
+/// A flat triangle (nodes 0-2) in the x-z plane and a node (3) of a far triangle 8 mm above it
+/// (layer distance 10 mm), moving down 6 mm and along x by `slide` over one step of 0.01 s. The
+/// handler's step with `hold(i)` as the colliders' hold; returns the end positions and velocities.
+std::pair<Matrix3X<double>, Matrix3X<double>> layer_on_held_triangle(
+    const SelfCollisionSettings<double>& settings, double slide, const std::function<ColliderHold<double>(int)>& hold,
+    SelfCollisionReport* report = nullptr) {
+  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 4, 5}};
+  Matrix3X<double> x(3, 6);
+  x << 0, 0.1, 0, 0.02, 0.5, 0.5,  //
+      0, 0, 0, 0.008, 0.5, 0.6,    //
+      0, 0, 0.1, 0.02, 0.5, 0.6;
+  const VectorX<double> masses = VectorX<double>::Constant(6, 0.01);
+  SelfCollisionHandler<double> handler(settings, 0.005, triangles, masses, x);
+  const double dt = 0.01;
+  Matrix3X<double> v = Matrix3X<double>::Zero(3, 6);
+  v(1, 3) = -0.6;  // 6 mm down over the step: ends 2 mm above the triangle
+  v(0, 3) = slide;
+  Matrix3X<double> x_new = x + dt * v;
+  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0), hold);
+  if (report != nullptr) *report = handler.report();
+  return {x_new, v};
+}
 
 }  // namespace
 
@@ -177,23 +201,14 @@ TEST_CASE("self-collision: a layer pressing a collider-held node into its collid
   // and the upper node alone stops.
   SelfCollisionSettings<double> settings;
   settings.enabled = true;
-  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 4, 5}};
-  Matrix3X<double> x(3, 6);
-  x << 0, 0.1, 0, 0.02, 0.5, 0.5,  //
-      0, 0, 0, 0.008, 0.5, 0.6,    //
-      0, 0, 0.1, 0.02, 0.5, 0.6;
-  const VectorX<double> masses = VectorX<double>::Constant(6, 0.01);
-  SelfCollisionHandler<double> handler(settings, 0.005, triangles, masses, x);
-  const double dt = 0.01;
-  Matrix3X<double> v = Matrix3X<double>::Zero(3, 6);
-  v(1, 3) = -0.6;  // 6 mm down over the step: ends 2 mm above the triangle
-  Matrix3X<double> x_new = x + dt * v;
   const ColliderHold<double> leaning{Vec3<double>(0.5, std::sqrt(0.75), 0.0), 0.5};  // rougher than the layers
-  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0),
-                  [&](int i) { return i < 3 ? leaning : ColliderHold<double>{}; });
-  CHECK(handler.report().repulsions > 0);
+  SelfCollisionReport report;
+  const auto [x_new, v] = layer_on_held_triangle(
+      settings, 0.0, [&](int i) { return i < 3 ? leaning : ColliderHold<double>{}; }, &report);
+  CHECK(report.repulsions > 0);
+  const Vec3<double> corner[3] = {{0, 0, 0}, {0.1, 0, 0}, {0, 0, 0.1}};  // where the triangle starts
   for (int i = 0; i < 3; ++i) {
-    CHECK((x_new.col(i) - x.col(i)).norm() < 1e-15);  // a slide would be millimetres
+    CHECK((x_new.col(i) - corner[i]).norm() < 1e-15);  // a slide would be millimetres
     CHECK(v.col(i).norm() < 1e-13);
   }
   CHECK(x_new(1, 3) >= 0.008 - 1e-12);  // stopped at its start distance at least
@@ -211,28 +226,19 @@ TEST_CASE(
   SelfCollisionSettings<double> settings;
   settings.enabled = true;
   settings.friction = 0.4;
-  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 4, 5}};
-  Matrix3X<double> x(3, 6);
-  x << 0, 0.1, 0, 0.02, 0.5, 0.5,  //
-      0, 0, 0, 0.008, 0.5, 0.6,    //
-      0, 0, 0.1, 0.02, 0.5, 0.6;
-  const VectorX<double> masses = VectorX<double>::Constant(6, 0.01);
-  const double dt = 0.01;
   auto drag = [&](double floor_friction) {
-    SelfCollisionHandler<double> handler(settings, 0.005, triangles, masses, x);
-    Matrix3X<double> v = Matrix3X<double>::Zero(3, 6);
-    v(1, 3) = -0.6;  // 6 mm down over the step: ends 2 mm above the triangle
-    v(0, 3) = 0.5;
-    Matrix3X<double> x_new = x + dt * v;
     const ColliderHold<double> floor{Vec3<double>(0, 1, 0), floor_friction};
-    handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0),
-                    [&](int i) { return i < 3 ? floor : ColliderHold<double>{}; });
-    CHECK(handler.report().repulsions > 0);
-    return std::make_pair(x_new, v);
+    SelfCollisionReport report;
+    const auto result = layer_on_held_triangle(
+        settings, 0.5, [&](int i) { return i < 3 ? floor : ColliderHold<double>{}; }, &report);
+    CHECK(report.repulsions > 0);
+    return result;
   };
+  const Vec3<double> corner[3] = {{0, 0, 0}, {0.1, 0, 0}, {0, 0, 0.1}};  // where the triangle starts
+  const VectorX<double> masses = VectorX<double>::Constant(6, 0.01);
   const auto [x_rough, v_rough] = drag(0.5);
   for (int i = 0; i < 3; ++i) {
-    CHECK((x_rough.col(i) - x.col(i)).norm() < 1e-15);  // a drag would be millimetres
+    CHECK((x_rough.col(i) - corner[i]).norm() < 1e-15);  // a drag would be millimetres
     CHECK(v_rough.col(i).norm() < 1e-13);
   }
   CHECK(v_rough(0, 3) < 0.5 - 1e-3);  // the upper node slowed: the floor held its layer still
