@@ -1,9 +1,12 @@
 /// \file bench_forces.cpp
 /// Force assembly and the RK2 step at the default dt: drape (1 and 2 threads) against the textbook
-/// baseline (baseline.hpp); the symplectic Euler step at the same dt (`symplectic_step`).
+/// baseline (baseline.hpp); the symplectic Euler step at the same dt (`symplectic_step`). The
+/// `impl=drape-sse2` rows run the same steps with the AVX2 spring pass switched off
+/// (core/instruction_set.hpp): the gain of the run-time dispatch, measured in the same run.
 
 #include "baseline.hpp"
 #include "bench_common.hpp"
+#include "drape/core/instruction_set.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/physics/force_assembler.hpp"
 
@@ -36,6 +39,15 @@ void force_assembly_baseline(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * sc.cloth->springs().size());
 }
 
+/// Runs the baseline (SSE2) versions of the hot loops while it lives.
+struct BaselineInstructionSet {
+  drape::InstructionSet saved = drape::instruction_set();
+  BaselineInstructionSet() { drape::use_instruction_set(drape::InstructionSet::Baseline); }
+  ~BaselineInstructionSet() { drape::use_instruction_set(saved); }
+  BaselineInstructionSet(const BaselineInstructionSet&) = delete;
+  BaselineInstructionSet& operator=(const BaselineInstructionSet&) = delete;
+};
+
 void rk2_step_drape(benchmark::State& st) {
   const Scene& sc = scene(int(st.range(0)));
   drape::Rk2<double> rk2(*sc.cloth, {drape::IntegratorOptions{}.dt, int(st.range(1))});  // the default dt
@@ -49,6 +61,16 @@ void symplectic_step_drape(benchmark::State& st) {
   drape::SymplecticEuler<double> stepper(*sc.cloth, {drape::IntegratorOptions{}.dt, int(st.range(1))});
   run_steps(st, sc, rk2_window, [&](drape::State<double>& s) { return stepper.step(s); });
   st.counters["threads_used"] = stepper.forces().threads();
+}
+
+void rk2_step_drape_sse2(benchmark::State& st) {
+  const BaselineInstructionSet sse2;
+  rk2_step_drape(st);
+}
+
+void symplectic_step_drape_sse2(benchmark::State& st) {
+  const BaselineInstructionSet sse2;
+  symplectic_step_drape(st);
 }
 
 void rk2_step_baseline(benchmark::State& st) {
@@ -68,6 +90,10 @@ const bool registered = [] {
   sized(benchmark::RegisterBenchmark("rk2_step/impl=baseline", rk2_step_baseline), serial, benchmark::kMicrosecond, 257,
         headline_min_time);
   sized(benchmark::RegisterBenchmark("symplectic_step/impl=drape", symplectic_step_drape), one_and_two,
+        benchmark::kMicrosecond, 257, headline_min_time);
+  sized(benchmark::RegisterBenchmark("rk2_step/impl=drape-sse2", rk2_step_drape_sse2), one_and_two,
+        benchmark::kMicrosecond, 257, headline_min_time);
+  sized(benchmark::RegisterBenchmark("symplectic_step/impl=drape-sse2", symplectic_step_drape_sse2), one_and_two,
         benchmark::kMicrosecond, 257, headline_min_time);
   return true;
 }();

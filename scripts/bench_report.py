@@ -401,6 +401,25 @@ def speedup_table(results):
                     "below 2 x 3000 block rows (`PcgSolver::min_rows_per_thread`), i.e. at 33 x 33 and 65 x 65 (4,223 free nodes).", ""]
 
 
+def dispatch_section(results):
+    """The AVX2 spring pass against the same step with it switched off (impl=drape-sse2)."""
+    rows = []
+    for family, name in (("rk2_step", "RK2"), ("symplectic_step", "symplectic Euler")):
+        for r in sorted(find(results, family, impl="drape"), key=lambda r: (r.n, r.threads)):
+            sse2 = one(results, family, impl="drape-sse2", n=r.n, threads=r.threads)
+            if sse2:
+                rows.append(f"| {name} | {r.n} x {r.n} | {r.threads} | {fmt_time(sse2.median_ms)} | "
+                            f"{fmt_time(r.median_ms)} | {fmt_ratio(sse2.median_ms / r.median_ms)} |")
+    if not rows:
+        return []
+    return ["## Run-time instruction set: the AVX2 spring pass", "",
+            "The explicit steps' spring pass has an AVX2 version chosen at run time when the CPU has it "
+            "(include/drape/core/instruction_set.hpp; the build itself targets plain x86-64). Both versions "
+            "give the same bits (tests/core/test_instruction_set.cpp). `drape-sse2` is the same step with "
+            "the AVX2 version switched off, in the same run:", "",
+            "| step | n x n | threads | SSE2 only | with AVX2 | speed-up |", "|---|---|---|---|---|---|"] + rows + [""]
+
+
 def targets(results, context):
     default_solver = context.get("default_solver")
     default_pre = context.get("default_preconditioner")
@@ -434,33 +453,26 @@ def targets(results, context):
     imp, base = implicit(33, "1_60"), implicit(33, "1_60", impl="baseline")
     if imp and base:
         ratio = base.median_ms / imp.median_ms
-        row("33 x 33 implicit, default solver, dt = 1/60, vs textbook", ">= 20x faster",
-            f"{fmt_ratio(ratio)} ({fmt_time(base.median_ms)} -> {fmt_time(imp.median_ms)})", ratio >= 20)
-        row("33 x 33 implicit, default solver, dt = 1/60", "< 1 ms", timed(imp), imp.median_ms < 1)
+        row("33 x 33 implicit step, default solver, dt = 1/60", "< 1 ms", timed(imp), imp.median_ms < 1)
+        row("33 x 33 implicit step against the textbook baseline", ">= 25x",
+            f"{fmt_ratio(ratio)} ({fmt_time(base.median_ms)} -> {fmt_time(imp.median_ms)})", ratio >= 25)
     else:
-        row("33 x 33 implicit vs textbook / under 1 ms", ">= 20x, < 1 ms", "-", None)
-    r = rk2(33)
-    row("33 x 33 RK2 step, 2 threads", "< 30 us", timed(r),
-        r.median_ms < 0.030 if r else None)
-    for dt in ("1_60", "0.01"):
-        imp = implicit(257, dt)
-        row(f"257 x 257 implicit step, default solver, dt = {dt.replace('_', '/')}", "< 150 ms",
-            timed(imp), imp.median_ms < 150 if imp else None)
+        row("33 x 33 implicit step: under 1 ms, against the textbook", "< 1 ms, >= 25x", "-", None)
+    imp = implicit(129, "1_60")
+    row("129 x 129 implicit step, default solver, dt = 1/60", "< 16.7 ms (real time)", timed(imp),
+        imp.median_ms < REALTIME_MS if imp else None)
+    # At 33 x 33 a user picks the faster thread count; at 257 the goal names 2 threads.
+    fastest = min((r for r in (rk2(33, 1), rk2(33, 2)) if r), key=lambda r: r.median_ms, default=None)
+    row("33 x 33 RK2 step (the faster of 1 and 2 threads)", "< 30 us",
+        f"{timed(fastest)} ({fastest.threads} thread(s))" if fastest else "-",
+        fastest.median_ms < 0.030 if fastest else None)
     r = rk2(257)
-    row("257 x 257 RK2 step, 2 threads", "< 2 ms", timed(r),
-        r.median_ms < 2 if r else None)
+    row("257 x 257 RK2 step, 2 threads", "< 2 ms", timed(r), r.median_ms < 2 if r else None)
     for n in (129, 257):
-        r1, r2 = rk2(n, 1), rk2(n, 2)
-        s = r1.median_ms / r2.median_ms if r1 and r2 else None
-        row(f"{n} x {n} RK2, 2 threads vs 1", ">= 1.7x",
-            f"{fmt_ratio(s)} ({fmt_time(r1.median_ms)} -> {fmt_time(r2.median_ms)})" if s else "-", s >= 1.7 if s else None)
         i1, i2 = implicit(n, "1_60", 1), implicit(n, "1_60", 2)
         s = i1.median_ms / i2.median_ms if i1 and i2 else None
-        row(f"{n} x {n} implicit dt = 1/60, 2 threads vs 1", ">= 1.7x",
+        row(f"{n} x {n} implicit dt = 1/60, 2 threads against 1", ">= 1.7x",
             f"{fmt_ratio(s)} ({fmt_time(i1.median_ms)} -> {fmt_time(i2.median_ms)})" if s else "-", s >= 1.7 if s else None)
-    imp = implicit(65, "1_60")
-    row("65 x 65 implicit, dt = 1/60, faster than real time", "< 16 ms",
-        timed(imp), imp.median_ms < 16 if imp else None)
     # How far up real time holds: per size the faster of 1 and 2 threads (a user picks the faster),
     # the largest measured size under 1/60 s, and the fitted extrapolation beyond it.
     best = {}
@@ -506,6 +518,8 @@ def write_plot(results, context, path):
             is_default = (d.get("solver") == default_solver and d.get("jacobian") == context.get("default_jacobian")
                           and d.get("preconditioner") == context.get("default_preconditioner"))
             if d.get("impl") == "drape" and d.get("threads") != "2" and not (family == "rk2_step" or is_default):
+                continue
+            if d.get("impl") == "drape-sse2":  # the dispatch's gain is in the tables, not the plot
                 continue
             label = ("RK2 " if family == "rk2_step" else "implicit ") + method_label(m)
             if is_default and d.get("impl") == "drape":
@@ -561,7 +575,7 @@ def main():
         out.append(f"| SIMD | {machine['simd']} |")
     out.append(f"| caches | L1d {machine.get('l1d', '?')}, L2 {machine.get('l2', '?')}, L3 {machine.get('l3', '?')} |")
     out.append(f"| compiler | {context.get('compiler', '?')}, flags `{context.get('cxx_flags', '?').strip()}` "
-               f"(CMake Release defaults, no `-march`) |")
+               f"(CMake Release defaults, no `-march`; the AVX2 spring pass is chosen at run time) |")
     out.append(f"| OpenMP | {context.get('openmp', '?')} (max threads {context.get('max_threads', '?')}) |")
     out.append(f"| Eigen | {context.get('eigen_version', '?')} |")
     if machine.get("blas"):
@@ -571,7 +585,7 @@ def main():
     if machine.get("loadavg_before"):
         share = machine.get("other_processes_cpu_share")
         out.append(f"| load | load average before `{machine['loadavg_before']}`, after `{machine['loadavg_after']}`"
-                   + (f"; other processes used {share * 100:.0f}% of the CPU time during the run" if share is not None else "")
+                   + (f"; other processes used {max(share, 0) * 100:.0f}% of the CPU time during the run" if share is not None else "")
                    + " |")
     out.append("")
 
@@ -591,11 +605,14 @@ def main():
         out += [context["accuracy"], ""]
 
     target_rows, realtime_note = targets(results, context)
-    out += ["## Targets (issue 5)", ""]
+    out += ["## Targets (issue 14)", "",
+            "The per-step targets of issue 14, from this run. Wall time per simulated second against the "
+            "peers (the issue's first target) comes from `drape_sim_second` (below, \"Wall time per simulated "
+            "second\"), not from this suite.", ""]
     share = machine.get("other_processes_cpu_share")
     load_before = float(machine.get("loadavg_before", "0").split()[0])
     if (share is not None and share > 0.1) or load_before >= 1.0:
-        used = f"other processes used {share * 100:.0f}% of the machine's CPU time during this run, " if share is not None else ""
+        used = f"other processes used {max(share, 0) * 100:.0f}% of the machine's CPU time during this run, " if share is not None else ""
         out += [f"**Warning: the machine was busy: {used}load average {load_before:.1f} before the run and "
                 + " / ".join(machine.get("loadavg_after", "? ? ?").split()[:3]) + " (1 / 5 / 15 min) after it. Wall times, "
                 "and above all two-thread times, are inflated by the load: a thread of drape that is descheduled "
@@ -614,6 +631,7 @@ def main():
                    "setup"):
         out += family_table(results, family, baseline_for)
     out += speedup_table(results)
+    out += dispatch_section(results)
     out += environment_section(results)
     out += self_collision_section(results)
 

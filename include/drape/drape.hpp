@@ -15,6 +15,8 @@
 #include "drape/core/enum_names.hpp"
 #include "drape/core/team.hpp"
 #include "drape/core/sine.hpp"
+#include "drape/core/instruction_set.hpp"
+#include "drape/core/vector_sqrt.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/spring_set.hpp"
 #include "drape/core/pins.hpp"

@@ -23,9 +23,11 @@
 
 #include "drape/config.hpp"
 #include "drape/core/cloth.hpp"
+#include "drape/core/instruction_set.hpp"
 #include "drape/core/team.hpp"
 #include "drape/physics/spring_families.hpp"
 #include "drape/physics/spring_kernel.hpp"
+#include "drape/core/vector_sqrt.hpp"
 
 namespace drape {
 
@@ -94,6 +96,18 @@ class ForceAssembler {
   void node_pass(BlockFn&& fn) const;
 
  private:
+  /// spring_pass's loops, compiled once for the baseline instruction set and once for AVX2
+  /// (instruction_set.hpp): inlined into each caller, so each caller's target applies.
+  template <bool Avx2, int Stride>
+  DRAPE_INLINE_LOOP void spring_pass_loops(const NodeView<Scalar, Stride>& x, const NodeView<Scalar, Stride>& v) const;
+#if DRAPE_AVX2_DISPATCH
+  template <int Stride>
+  __attribute__((target("avx2"))) void spring_pass_avx2(const NodeView<Scalar, Stride>& x,
+                                                        const NodeView<Scalar, Stride>& v) const {
+    spring_pass_loops<true>(x, v);
+  }
+#endif
+
   /// `out[j] = (start ? start[j] : mass[j] * g) + sum over q < K of (as_first[q][j] - as_second[q][j])`,
   /// summed in q order.
   template <int K>
@@ -152,6 +166,19 @@ void ForceAssembler<Scalar>::evaluate_terms_in_team(const ConstRef3X<Scalar>& x,
 template <class Scalar>
 template <int Stride>
 void ForceAssembler<Scalar>::spring_pass(const NodeView<Scalar, Stride>& x, const NodeView<Scalar, Stride>& v) const {
+#if DRAPE_AVX2_DISPATCH
+  if (instruction_set() == InstructionSet::Avx2) {
+    spring_pass_avx2(x, v);
+    return;
+  }
+#endif
+  spring_pass_loops<false>(x, v);
+}
+
+template <class Scalar>
+template <bool Avx2, int Stride>
+DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::spring_pass_loops(const NodeView<Scalar, Stride>& x,
+                                                                 const NodeView<Scalar, Stride>& v) const {
   constexpr int max_run = SpringFamilies<Scalar>::max_run_length;
   // One run at a time in three vectorised loops: gather d, |d|^2, w.d; sqrt; factor and force.
   alignas(64) Scalar d[3][max_run];
@@ -180,9 +207,10 @@ void ForceAssembler<Scalar>::spring_pass(const NodeView<Scalar, Stride>& x, cons
       w_dot_d[j] = (vb0[Stride * j] - va0[Stride * j]) * d0 + (vb1[Stride * j] - va1[Stride * j]) * d1 +
                    (vb2[Stride * j] - va2[Stride * j]) * d2;
     }
-    // Eigen's packet sqrt: the compiler does not vectorise std::sqrt unless -fno-math-errno.
-    Eigen::Map<Eigen::Array<Scalar, Eigen::Dynamic, 1>, Eigen::Aligned16> squared(length, count);
-    squared = squared.sqrt();
+    if constexpr (Avx2)
+      detail::sqrt_in_place_avx2(length, count);
+    else
+      detail::sqrt_in_place(length, count);
     Scalar* f0 = slots(run.family, 0) + run.first;
     Scalar* f1 = slots(run.family, 1) + run.first;
     Scalar* f2 = slots(run.family, 2) + run.first;

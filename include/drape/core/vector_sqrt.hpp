@@ -1,0 +1,94 @@
+#pragma once
+/// \file vector_sqrt.hpp
+/// Square roots of an array in place, several per instruction and correctly rounded.
+///
+/// Compilers do not vectorise `std::sqrt` unless errno is switched off (`-fno-math-errno`), and
+/// Eigen's packet sqrt for float is an approximation (rsqrt and a Newton step) whose last bits
+/// differ between CPU vendors. These loops call the processor's exact square root instructions
+/// directly: SSE2 (2 doubles, 4 floats) in the baseline version, AVX2 (4 doubles, 8 floats) in the
+/// other (instruction_set.hpp). An exact square root has one answer, so both versions, and the
+/// scalar tail, give the same bits.
+
+#include <cmath>
+#include <cstring>
+
+#include <Eigen/Core>
+
+#include "drape/core/instruction_set.hpp"
+#include "drape/core/types.hpp"
+
+namespace drape::detail {
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+
+using Double2 = double __attribute__((vector_size(16)));
+using Float4 = float __attribute__((vector_size(16)));
+
+/// Baseline: SSE2's sqrtpd and SSE's sqrtps.
+template <class Scalar>
+inline void sqrt_in_place(Scalar* a, Index n) {
+  constexpr Index lanes = 16 / sizeof(Scalar);
+  Index j = 0;
+  for (; j + lanes <= n; j += lanes) {
+    if constexpr (sizeof(Scalar) == 8) {
+      Double2 p;
+      std::memcpy(&p, a + j, sizeof p);
+      p = __builtin_ia32_sqrtpd(p);
+      std::memcpy(a + j, &p, sizeof p);
+    } else {
+      Float4 p;
+      std::memcpy(&p, a + j, sizeof p);
+      p = __builtin_ia32_sqrtps(p);
+      std::memcpy(a + j, &p, sizeof p);
+    }
+  }
+  for (; j < n; ++j) a[j] = std::sqrt(a[j]);
+}
+
+#else
+
+/// Other platforms: Eigen's packet sqrt (exact for double; for float Eigen may approximate).
+template <class Scalar>
+inline void sqrt_in_place(Scalar* a, Index n) {
+  Eigen::Map<Eigen::Array<Scalar, Eigen::Dynamic, 1> > m(a, n);
+  m = m.sqrt();
+}
+
+#endif
+
+#if DRAPE_AVX2_DISPATCH
+
+using Double4 = double __attribute__((vector_size(32)));
+using Float8 = float __attribute__((vector_size(32)));
+
+/// AVX2 version: vsqrtpd / vsqrtps on 256-bit registers.
+template <class Scalar>
+__attribute__((target("avx2"))) inline void sqrt_in_place_avx2(Scalar* a, Index n) {
+  constexpr Index lanes = 32 / sizeof(Scalar);
+  Index j = 0;
+  for (; j + lanes <= n; j += lanes) {
+    if constexpr (sizeof(Scalar) == 8) {
+      Double4 p;
+      std::memcpy(&p, a + j, sizeof p);
+      p = __builtin_ia32_sqrtpd256(p);
+      std::memcpy(a + j, &p, sizeof p);
+    } else {
+      Float8 p;
+      std::memcpy(&p, a + j, sizeof p);
+      p = __builtin_ia32_sqrtps256(p);
+      std::memcpy(a + j, &p, sizeof p);
+    }
+  }
+  for (; j < n; ++j) a[j] = std::sqrt(a[j]);
+}
+
+#else
+
+template <class Scalar>
+inline void sqrt_in_place_avx2(Scalar* a, Index n) {
+  sqrt_in_place(a, n);
+}
+
+#endif
+
+}  // namespace drape::detail

@@ -1,0 +1,127 @@
+// The AVX2 versions of the hot loops give the baseline's bits (instruction_set.hpp): the exact
+// square roots, the spring pass, and whole RK2 and symplectic Euler runs, in float and double.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "drape/core/instruction_set.hpp"
+#include "drape/core/vector_sqrt.hpp"
+#include "drape/integrators/rk2.hpp"
+#include "drape/integrators/symplectic_euler.hpp"
+#include "test_common.hpp"
+
+using namespace drape;
+
+namespace {
+
+/// Restores the process's instruction set when a test ends.
+struct InstructionSetScope {
+  InstructionSet saved = instruction_set();
+  ~InstructionSetScope() { use_instruction_set(saved); }
+};
+
+template <class S>
+bool same_bits(const Matrix3X<S>& a, const Matrix3X<S>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(S) * std::size_t(a.size())) == 0;
+}
+
+/// The default cloth (two corners pinned, gravity), 21 x 21 nodes.
+template <class S>
+Cloth<S> falling_cloth() {
+  ClothSpec<S> spec;
+  spec.nx = 21;
+  spec.ny = 21;
+  return Cloth<S>(spec);
+}
+
+/// 1.5 s of falling_cloth()'s cloth with one explicit integrator.
+template <class S, class Integrator>
+State<S> run_explicit(InstructionSet set, int threads) {
+  InstructionSetScope scope;
+  use_instruction_set(set);
+  const Cloth<S> cloth = falling_cloth<S>();
+  IntegratorOptions options;
+  options.dt = 0.0005;
+  options.threads = threads;
+  Integrator integrator(cloth, options);
+  State<S> state = cloth.initial_state();
+  for (int i = 0; i < 3000; ++i) REQUIRE(integrator.step(state).ok());
+  return state;
+}
+
+template <class S>
+std::vector<S> sqrt_inputs() {
+  std::vector<S> a = {S(0),
+                      S(-0.0),
+                      S(1),
+                      S(2),
+                      S(3),
+                      std::numeric_limits<S>::min(),
+                      std::numeric_limits<S>::denorm_min(),
+                      std::numeric_limits<S>::max(),
+                      std::numeric_limits<S>::infinity()};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> exponent(-30, 30);
+  for (int i = 0; i < 1000; ++i) a.push_back(S(std::pow(10.0, exponent(rng))));
+  return a;  // 1009 values: the vector loops and a scalar tail
+}
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("vector square roots are exact: the bits of std::sqrt in both versions", "[simd]", float, double) {
+  const std::vector<TestType> input = sqrt_inputs<TestType>();
+  std::vector<TestType> baseline = input, avx2 = input;
+  detail::sqrt_in_place(baseline.data(), Index(baseline.size()));
+  if (detected_instruction_set() == InstructionSet::Avx2)
+    detail::sqrt_in_place_avx2(avx2.data(), Index(avx2.size()));
+  else
+    avx2 = baseline;
+  for (std::size_t i = 0; i < input.size(); ++i) {
+    INFO("sqrt(" << input[i] << ")");
+    const TestType exact = std::sqrt(input[i]);
+    REQUIRE(std::memcmp(&baseline[i], &exact, sizeof exact) == 0);
+    REQUIRE(std::memcmp(&avx2[i], &exact, sizeof exact) == 0);
+  }
+  // A negative argument gives NaN (which the integrators report), not a finite value.
+  TestType negative[5] = {-1, -2, -3, -4, -5};
+  detail::sqrt_in_place(negative, 5);
+  for (TestType n : negative) REQUIRE(std::isnan(n));
+}
+
+TEMPLATE_TEST_CASE("RK2 and symplectic Euler give the same bits with AVX2 and without", "[simd]", float, double) {
+  if (detected_instruction_set() != InstructionSet::Avx2) {
+    WARN("this CPU or build has no AVX2 version: nothing to compare");
+    return;
+  }
+  for (int threads : {1, 2}) {
+    INFO(threads << " thread(s)");
+    const State<TestType> rk2_base = run_explicit<TestType, Rk2<TestType>>(InstructionSet::Baseline, threads);
+    const State<TestType> rk2_avx2 = run_explicit<TestType, Rk2<TestType>>(InstructionSet::Avx2, threads);
+    CHECK(same_bits(rk2_base.positions, rk2_avx2.positions));
+    CHECK(same_bits(rk2_base.velocities, rk2_avx2.velocities));
+    const State<TestType> se_base =
+        run_explicit<TestType, SymplecticEuler<TestType>>(InstructionSet::Baseline, threads);
+    const State<TestType> se_avx2 = run_explicit<TestType, SymplecticEuler<TestType>>(InstructionSet::Avx2, threads);
+    CHECK(same_bits(se_base.positions, se_avx2.positions));
+    CHECK(same_bits(se_base.velocities, se_avx2.velocities));
+    // The cloth fell and swung: a comparison of two resting cloths would prove nothing.
+    REQUIRE((rk2_base.positions - falling_cloth<TestType>().grid().rest_positions()).cwiseAbs().maxCoeff() >
+            TestType(0.5));
+  }
+}
+
+TEST_CASE("the instruction set can be chosen, and an unsupported one is refused by name", "[simd]") {
+  InstructionSetScope scope;
+  use_instruction_set(InstructionSet::Baseline);
+  REQUIRE(instruction_set() == InstructionSet::Baseline);
+  if (detected_instruction_set() == InstructionSet::Avx2) {
+    use_instruction_set(InstructionSet::Avx2);
+    REQUIRE(instruction_set() == InstructionSet::Avx2);
+  } else {
+    REQUIRE_THROWS_WITH(use_instruction_set(InstructionSet::Avx2), Catch::Contains("instruction_set"));
+  }
+}
