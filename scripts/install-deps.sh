@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages drape needs, only those that are missing.
-#   scripts/install-deps.sh [test] [viewer] [bench] [fuzz] [tidy]   (no argument: everything)
+#   scripts/install-deps.sh [test] [viewer] [bench] [fuzz] [tidy] [python]   (no argument: everything)
 set -euo pipefail
 
 core=(g++ cmake ninja-build pkg-config libeigen3-dev)
@@ -9,9 +9,12 @@ viewer=(libosmesa6-dev libpng-dev libcli11-dev libtomlplusplus-dev libsuitespars
 bench=(libbenchmark-dev libsuitesparse-dev libopenblas-dev python3 python3-matplotlib)
 fuzz=(clang libclang-rt-14-dev)
 tidy=(clang-tidy libsuitesparse-dev)
+# The Python package (scripts/python.sh): the venv, the headers, Debian's numpy and matplotlib, the viewer's libraries.
+python=(python3 python3-venv python3-dev python3-numpy python3-matplotlib libosmesa6-dev libpng-dev libcli11-dev
+        libtomlplusplus-dev)
 
 groups=("$@")
-[ ${#groups[@]} -eq 0 ] && groups=(test viewer bench fuzz tidy)
+[ ${#groups[@]} -eq 0 ] && groups=(test viewer bench fuzz tidy python)
 wanted=("${core[@]}")
 for g in "${groups[@]}"; do
   case "$g" in
@@ -20,7 +23,8 @@ for g in "${groups[@]}"; do
     bench) wanted+=("${bench[@]}") ;;
     fuzz) wanted+=("${fuzz[@]}") ;;
     tidy) wanted+=("${tidy[@]}") ;;
-    *) echo "install-deps: unknown group '$g' (allowed: test viewer bench fuzz tidy)" >&2; exit 2 ;;
+    python) wanted+=("${python[@]}") ;;
+    *) echo "install-deps: unknown group '$g' (allowed: test viewer bench fuzz tidy python)" >&2; exit 2 ;;
   esac
 done
 

@@ -34,11 +34,13 @@
 #include "drape/viewer/offscreen_context.hpp"
 #include "drape/viewer/png.hpp"
 #include "render_settings.hpp"
+#include "scene_setup.hpp"
 
 extern char** environ;
 
 namespace {
 
+using drape::render::PinSchedule;
 using drape::render::Settings;
 using drape::render::SettingsError;
 
@@ -182,82 +184,6 @@ struct FrameSteps {
   long long iterations = 0;
   double residual = 0;
   ContactColumns contact;  // forces summed here, divided by the steps when logged
-};
-
-/// Simulated seconds the run covers after its start (for framing moving colliders).
-double run_length(const Settings& s) {
-  return s.time.duration_given ? s.time.duration : double(s.time.frames - 1) * s.time.frame_time;
-}
-
-/// The box the fixed camera frames: where the cloth can hang from its pins and the nodes of the
-/// [[moving-pins]] tables (hanging_bounds), every key position of a [[moving-pins]] path and the cloth hanging
-/// below it (as far as below the node at the start), every collider but the planes over the whole
-/// run (a moving one at 9 times), and the floor collider's height (the cloth can land there).
-/// Without colliders and [[moving-pins]]: hanging_bounds alone.
-drape::viewer::Bounds framed_box(const Settings& s, const drape::Clothd& cloth, const drape::Stated& start,
-                                 std::optional<double> floor_collider_y) {
-  std::vector<int> pins = cloth.pins().nodes();
-  for (const drape::render::PinSpec& pin : s.moving_pins) pins.push_back(drape::render::pin_node(s, pin));
-  std::sort(pins.begin(), pins.end());
-  pins.erase(std::unique(pins.begin(), pins.end()), pins.end());
-  drape::viewer::Bounds box = drape::viewer::hanging_bounds(cloth, start.positions, pins);
-  const float lowest = box.min.y();
-  for (const drape::render::PinSpec& pin : s.moving_pins) {
-    const float node_y = float(start.positions(1, drape::render::pin_node(s, pin)));
-    for (const drape::Vec3<double>& p : pin.key_positions) {
-      box.extend(p.cast<float>());
-      box.extend(Eigen::Vector3f(float(p.x()), lowest + (float(p.y()) - node_y), float(p.z())));
-    }
-  }
-  for (const drape::Colliderd& c : cloth.colliders()) {
-    const std::vector<Eigen::Vector3f> local = drape::viewer::local_collider_mesh(c);
-    const int samples = c.motion().is_static() ? 1 : 9;
-    for (int k = 0; k < samples && !local.empty(); ++k) {
-      const double t = start.time + (samples > 1 ? run_length(s) * k / (samples - 1) : 0.0);
-      drape::viewer::extend(box, drape::viewer::place_mesh(local, c.motion().pose(t)));
-    }
-  }
-  if (floor_collider_y) {
-    const Eigen::Vector3f centre = box.centre();
-    box.extend(Eigen::Vector3f(centre.x(), float(*floor_collider_y), centre.z()));
-  }
-  return box;
-}
-
-/// The [[moving-pins]] tables over time: each node is pinned to its path once the run reaches its start
-/// and released at its release time, between steps (the integrator's PinSet).
-class PinSchedule {
- public:
-  explicit PinSchedule(const Settings& s) {
-    for (const drape::render::PinSpec& pin : s.moving_pins)
-      m_pins.push_back({&pin, drape::render::pin_node(s, pin), Stage::Waiting});
-  }
-
-  /// Pins and releases what is due at `t`, the start of the next step (or of the run): a time
-  /// within 1e-9 dt counts as reached, so events on step boundaries happen at that step whatever
-  /// the rounding of the accumulated time.
-  void apply(double t, double dt, drape::PinSet<double>& pins) {
-    const double reached = t + 1e-9 * dt;
-    for (Entry& e : m_pins) {
-      if (e.stage == Stage::Waiting && e.spec->start <= reached) {
-        pins.pin(e.node, e.spec->path);
-        e.stage = Stage::Pinned;
-      }
-      if (e.stage == Stage::Pinned && e.spec->release && *e.spec->release <= reached) {
-        pins.release(e.node);
-        e.stage = Stage::Released;
-      }
-    }
-  }
-
- private:
-  enum class Stage : std::uint8_t { Waiting, Pinned, Released };
-  struct Entry {
-    const drape::render::PinSpec* spec;
-    int node;
-    Stage stage;
-  };
-  std::vector<Entry> m_pins;
 };
 
 /// A run: the simulation, the renderer and the outputs, and the two ways of stepping through time.
@@ -595,41 +521,12 @@ std::string force_term_names(const drape::Clothd& cloth) {
 }
 
 int run(const Settings& s) {
-  // The scene plus the air's force terms (none in still air, so such a run is unchanged).
-  drape::ClothSpecd spec = s.cloth;
-  for (auto& term : drape::render::air_force_terms(s)) spec.force_terms.push_back(std::move(term));
-  std::optional<drape::Clothd> cloth;
-  cloth.emplace(drape::render::make_cloth(s, spec));
   // Inputs and outputs are checked before any simulation or rendering.
-  drape::Stated start = cloth->initial_state();
-  if (!s.load_state.empty()) {
-    try {
-      start = drape::load_state<double>(s.load_state, cloth->node_count());
-    } catch (const drape::StateFormatError& e) { stop(exit_bad_settings, std::string("--load-state: ") + e.what()); }
-  }
-  // The floor: at its fixed height, or just below the box the camera frames; --floor-collider puts
-  // a plane collider there, so the cloth lands where the floor is drawn.
-  const float aspect = float(s.output.width) / float(s.output.height);
-  const std::optional<double> fixed_floor = drape::render::fixed_floor_height(s);
-  drape::viewer::Bounds framed = framed_box(s, *cloth, start, s.floor.collider ? fixed_floor : std::nullopt);
-  const std::vector<drape::ClothSpecd> more = drape::render::cloth_specs(s, spec);
-  for (std::size_t k = 1; k < more.size(); ++k) {  // the [[cloths]], where they start
-    const drape::Matrix3X<double> x = drape::Clothd(more[k]).start_positions();
-    for (Eigen::Index i = 0; i < x.cols(); ++i) framed.extend(x.col(i).cast<float>());
-  }
-  const double floor_y =
-      fixed_floor
-          ? *fixed_floor
-          : double(drape::viewer::frame_bounds(framed, aspect, float(s.output.azimuth), float(s.output.elevation))
-                       .floor_height);
-  if (s.floor.collider) {
-    spec.colliders.push_back(drape::render::floor_collider(s, floor_y));
-    cloth.emplace(drape::render::make_cloth(s, spec));
-  }
-  const std::vector<drape::ClothSpecd> specs = drape::render::cloth_specs(s, spec);
+  drape::render::PreparedScene scene = drape::render::prepare_scene(s);
+  const drape::Clothd cloth = drape::render::make_cloth(s, scene.first);
   prepare_output_folder(s.output.out);
 
-  Run run(s, *cloth, specs, std::move(start), framed, floor_y);
+  Run run(s, cloth, scene.specs, std::move(scene.start), scene.framed, scene.floor_y);
   if (s.time.realtime)
     run.realtime();
   else
@@ -641,8 +538,8 @@ int run(const Settings& s) {
     stop(exit_runtime_error,
          "ffmpeg could not make '" + s.output.video + "' from the frames in '" + s.output.out + "'");
   if (!s.output.quiet) {
-    const std::string forces = force_term_names(*cloth);
-    const std::size_t colliders = cloth->colliders().size();
+    const std::string forces = force_term_names(cloth);
+    const std::size_t colliders = cloth.colliders().size();
     const std::string contact =
         colliders == 0 ? "" : ", " + std::to_string(colliders) + (colliders == 1 ? " collider" : " colliders");
     std::fprintf(stderr, "drape-render: %d frames in '%s', t = %.4g s simulated in %.3g s (%lld steps, %s, %s%s%s)%s\n",

@@ -1,0 +1,1131 @@
+// The Python module drape._drape: the cloth model, the integrators, several cloths in a scene,
+// state and OBJ files (docs/python.md). Scene files and rendering: render_bindings.cpp.
+
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/unique_ptr.h>
+#include <nanobind/stl/variant.h>
+#include <nanobind/stl/vector.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <set>
+#include <variant>
+
+#include "bindings.hpp"
+#include "drape/config.hpp"
+#include "drape/integrators/make_integrator.hpp"
+#include "drape/io/obj.hpp"
+#include "drape/io/state_io.hpp"
+#include "drape/physics/diagnostics.hpp"
+#include "drape/solvers/solver_registry.hpp"
+
+namespace drape::python {
+
+using namespace nb::literals;
+using Vector = std::array<double, 3>;
+using NodeArray = nb::ndarray<nb::numpy, double, nb::shape<-1, 3>, nb::c_contig>;
+using NodeInput = nb::ndarray<const double, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+
+namespace {
+
+drape::Vec3<double> vec3(const Vector& v) { return {v[0], v[1], v[2]}; }
+Vector array3(const drape::Vec3<double>& v) { return {v[0], v[1], v[2]}; }
+
+// ---- errors -------------------------------------------------------------------------------------
+
+PyObject* invalid_parameter_type = nullptr;
+
+/// drape.InvalidParameter (a ValueError) with the parameter, value and allowed range as attributes.
+void translate_invalid_parameter(const std::exception_ptr& p, void*) {
+  try {
+    std::rethrow_exception(p);
+  } catch (const drape::InvalidParameter& e) {
+    nb::object error = nb::borrow(invalid_parameter_type)(nb::str(e.what()));
+    nb::setattr(error, "parameter", nb::str(e.parameter().c_str()));
+    nb::setattr(error, "value", nb::str(e.value().c_str()));
+    nb::setattr(error, "allowed", nb::str(e.allowed().c_str()));
+    PyErr_SetObject(invalid_parameter_type, error.ptr());
+  }
+}
+
+/// A Python exception raised inside a pin path's callback during a step: the step sees a NaN
+/// position and fails, and the error is raised once the step is over. Only touched with the GIL.
+std::optional<nb::python_error>& pending_callback_error() {
+  static auto* error = new std::optional<nb::python_error>();  // never destroyed: outlives the interpreter
+  return *error;
+}
+
+/// Raises the pending callback error, if any.
+void raise_pending_callback_error() {
+  std::optional<nb::python_error>& pending = pending_callback_error();
+  if (!pending) return;
+  nb::python_error error = std::move(*pending);
+  pending.reset();
+  throw error;
+}
+
+[[noreturn]] void fail_step(const drape::StepStatus& status, double time) {
+  raise_pending_callback_error();
+  char at[64];
+  std::snprintf(at, sizeof at, "%.17g", time);
+  throw StepFailed(std::string("drape: the step from t = ") + at + " s failed: " + drape::to_string(status.error) +
+                   "; the state is unchanged");
+}
+
+// ---- node arrays --------------------------------------------------------------------------------
+
+/// A (n, 3) numpy view of 3 x n node data (column-major 3 x n is row-major n x 3), kept alive by `owner`.
+NodeArray node_view(drape::Matrix3X<double>& m, nb::handle owner) {
+  return NodeArray(m.data(), {std::size_t(m.cols()), 3}, owner);
+}
+
+/// Copies an (n, 3) array into 3 x n node data of the same size.
+void assign_nodes(drape::Matrix3X<double>& m, const NodeInput& a, const char* name) {
+  if (a.shape(0) != std::size_t(m.cols()))
+    drape::detail::fail_argument(name, "an array of " + std::to_string(a.shape(0)) + " nodes",
+                                 "(n, 3) with n = " + std::to_string(m.cols()) + " (the cloth's nodes)");
+  std::copy(a.data(), a.data() + 3 * a.shape(0), m.data());
+}
+
+drape::Matrix3X<double> matrix_of(const NodeInput& a) {
+  drape::Matrix3X<double> m(3, Index(a.shape(0)));
+  std::copy(a.data(), a.data() + 3 * a.shape(0), m.data());
+  return m;
+}
+
+nb::ndarray<nb::numpy, int, nb::shape<-1, 3>> triangle_array(const std::vector<std::array<int, 3>>& triangles) {
+  auto* data = new std::vector<std::array<int, 3>>(triangles);
+  nb::capsule owner(data, [](void* p) noexcept { delete static_cast<std::vector<std::array<int, 3>>*>(p); });
+  return {data->data(), {data->size(), 3}, owner};
+}
+
+std::vector<std::array<int, 3>> triangles_of(
+    const nb::ndarray<const int, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>& a) {
+  std::vector<std::array<int, 3>> triangles(a.shape(0));
+  std::copy(a.data(), a.data() + 3 * a.shape(0), triangles.data()->data());
+  return triangles;
+}
+
+// ---- stepping -----------------------------------------------------------------------------------
+
+/// How many steps `seconds` are at `dt` (drape-render's rounding), checked.
+long long steps_for(double seconds, double dt) {
+  if (!(std::isfinite(seconds) && seconds >= 0))
+    drape::detail::fail_argument("seconds", drape::detail::to_text(seconds), "finite and >= 0");
+  return std::llround(seconds / dt);
+}
+
+/// The step counts after which run() calls back: every step without `frame_time`, else the whole
+/// frames k frame_time from the start (rounded to whole steps).
+class CallbackPlan {
+ public:
+  CallbackPlan(long long total, double dt, std::optional<double> frame_time, bool has_callback)
+      : m_total(total), m_dt(dt), m_frame_time(frame_time), m_has_callback(has_callback) {
+    if (frame_time && !(std::isfinite(*frame_time) && *frame_time > 0))
+      drape::detail::fail_argument("frame_time", drape::detail::to_text(*frame_time), "finite and > 0 (s)");
+  }
+  /// The step count of the next callback after `done` steps (the run's end if none is due before).
+  long long next(long long done) {
+    if (!m_has_callback) return m_total;
+    if (!m_frame_time) return std::min(done + 1, m_total);
+    long long target = done;
+    while (target <= done) target = std::llround(double(++m_frame) * *m_frame_time / m_dt);
+    return std::min(target, m_total);
+  }
+  /// True if a callback is due after `done` steps.
+  bool due(long long done) const {
+    if (!m_has_callback) return false;
+    if (!m_frame_time) return true;
+    return std::llround(double(m_frame) * *m_frame_time / m_dt) == done;
+  }
+
+ private:
+  long long m_total;
+  double m_dt;
+  std::optional<double> m_frame_time;
+  bool m_has_callback;
+  long long m_frame = 0;
+};
+
+/// Calls `advance` (one step of the simulation, returning its status) `total` times with the GIL
+/// released, and `callback(subject)` as planned with the GIL held. `take` copies the shared state
+/// into the stepped one (at the start and after each callback, which may write into it), `share`
+/// copies it back (before each callback and at the end). A callback returning False stops the run.
+/// Returns the steps taken. \throws StepFailed (the shared state as after the last good step).
+template <class Advance, class Share, class Take, class Time>
+long long run_loop(long long total, double dt, const std::optional<nb::callable>& callback,
+                   std::optional<double> frame_time, nb::handle subject, Advance&& advance, Share&& share, Take&& take,
+                   Time&& time) {
+  CallbackPlan plan(total, dt, frame_time, callback.has_value());
+  long long done = 0;
+  drape::StepStatus status;
+  take();
+  while (done < total) {
+    const long long target = plan.next(done);
+    {
+      nb::gil_scoped_release released;
+      while (done < target) {
+        status = advance();
+        if (!status) break;
+        ++done;
+      }
+    }
+    if (!status || pending_callback_error()) {
+      share();
+      fail_step(status, time());
+    }
+    if (plan.due(done)) {
+      share();
+      const nb::object answer = (*callback)(subject);
+      take();
+      if (answer.is(nb::bool_(false))) break;
+    }
+  }
+  share();
+  return done;
+}
+
+drape::StepStatus step_integrator(drape::Integrator<double>& integrator, SharedState& state) {
+  BusyGuard busy({&integrator, &state}, "this integrator or state");
+  state.copy_to(state.own_work);
+  drape::StepStatus status;
+  {
+    nb::gil_scoped_release released;
+    status = integrator.step(state.own_work);
+  }
+  if (!status || pending_callback_error()) fail_step(status, state.shared.time);
+  state.copy_from(state.own_work);
+  return status;
+}
+
+// ---- pin paths ----------------------------------------------------------------------------------
+
+/// A Python function of time as a pin path: called with the GIL (the step runs without it); its
+/// error fails the step (a NaN position) and is raised after it.
+drape::PinPath<double> callback_path(nb::callable function) {
+  // The function is released with the GIL held, wherever the last copy of the path dies.
+  std::shared_ptr<nb::object> held(new nb::object(function), [](nb::object* o) {
+    nb::gil_scoped_acquire gil;
+    delete o;
+  });
+  return drape::PinPath<double>::callback([held](double t) -> drape::Vec3<double> {
+    nb::gil_scoped_acquire gil;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    try {
+      const Vector p = nb::cast<Vector>((*held)(t));
+      return vec3(p);
+    } catch (nb::python_error& e) {
+      if (!pending_callback_error()) pending_callback_error().emplace(std::move(e));
+    } catch (const std::exception& e) {
+      PyErr_SetString(PyExc_TypeError,
+                      (std::string("drape: a pin path function must return (x, y, z): ") + e.what()).c_str());
+      if (!pending_callback_error()) pending_callback_error().emplace();
+    }
+    return {nan, nan, nan};
+  });
+}
+
+// ---- springs ------------------------------------------------------------------------------------
+
+using SpringInput = std::variant<drape::SpringParams<double>, std::pair<double, double>>;
+drape::SpringParams<double> spring_params(const SpringInput& in) {
+  if (const auto* p = std::get_if<drape::SpringParams<double>>(&in)) return *p;
+  const auto& pair = std::get<std::pair<double, double>>(in);
+  return {pair.first, pair.second};
+}
+
+template <class Enum>
+std::vector<std::string> names_of() {
+  return drape::names<Enum>();
+}
+
+}  // namespace
+
+// ---- shared with render_bindings.cpp ------------------------------------------------------------
+
+drape::ClothSpecd library_spec(const ClothSpecWithAir& spec) {
+  spec.validate();
+  spec.air.validate();
+  drape::ClothSpecd out = spec;
+  if (spec.air.active()) {
+    const drape::Grid<double> grid(spec.nx, spec.ny, spec.spacing, spec.node_mass);
+    for (auto& term : drape::air_force_terms<double>(spec.air, grid.triangles())) out.force_terms.push_back(term);
+  }
+  return out;
+}
+
+namespace {
+std::mutex busy_mutex;
+std::set<const void*> busy_objects;
+}  // namespace
+
+BusyGuard::BusyGuard(std::initializer_list<const void*> objects, const char* what) {
+  const std::lock_guard<std::mutex> lock(busy_mutex);
+  for (const void* o : objects)
+    if (busy_objects.count(o))
+      throw std::runtime_error(std::string("drape: ") + what +
+                               " is being stepped by another call (another thread, "
+                               "or a callback of its run())");
+  for (const void* o : objects) {
+    busy_objects.insert(o);
+    m_objects.push_back(o);
+  }
+}
+
+BusyGuard::~BusyGuard() {
+  const std::lock_guard<std::mutex> lock(busy_mutex);
+  for (const void* o : m_objects) busy_objects.erase(o);
+}
+
+namespace {
+std::vector<drape::ClothSpecd> library_specs(const std::vector<ClothSpecWithAir>& specs) {
+  std::vector<drape::ClothSpecd> out;
+  for (std::size_t k = 0; k < specs.size(); ++k) {
+    try {
+      out.push_back(library_spec(specs[k]));
+    } catch (const drape::InvalidParameter& e) {  // named as ClothScene names its cloths' errors
+      throw drape::InvalidParameter("cloths[" + std::to_string(k) + "]." + e.parameter(), e.value(), e.allowed());
+    }
+  }
+  return out;
+}
+}  // namespace
+
+PyClothScene::PyClothScene(const std::vector<ClothSpecWithAir>& specs, drape::IntegratorKind kind,
+                           const drape::ImplicitOptions& options,
+                           const drape::SelfCollisionSettings<double>& collisions)
+    : m_scene(library_specs(specs), kind, options, collisions) {
+  for (int k = 0; k < m_scene.cloth_count(); ++k) m_states.push_back(std::make_unique<SharedState>(m_scene.state(k)));
+}
+
+PyClothScene::PyClothScene(std::shared_ptr<const drape::render::Settings> settings,
+                           const std::vector<drape::ClothSpecd>& specs, drape::Stated start)
+    : m_scene(specs, settings->integrator, settings->stepping, settings->cloth.self_collision),
+      m_settings(std::move(settings)) {
+  m_scene.state(0) = std::move(start);
+  m_schedule.emplace(*m_settings);
+  apply_schedule();  // those due at the start
+  for (int k = 0; k < m_scene.cloth_count(); ++k) m_states.push_back(std::make_unique<SharedState>(m_scene.state(k)));
+}
+
+SharedState& PyClothScene::state(int k) {
+  if (k < 0 || k >= m_scene.cloth_count())
+    throw nb::index_error(
+        ("drape: cloth " + std::to_string(k) + " of a scene of " + std::to_string(m_scene.cloth_count()) + " cloths")
+            .c_str());
+  return *m_states[std::size_t(k)];
+}
+
+void PyClothScene::apply_schedule() {
+  if (m_schedule) m_schedule->apply(m_scene.state(0).time, m_scene.integrator(0).dt(), m_scene.integrator(0).pins());
+}
+
+void PyClothScene::to_scene() {
+  for (std::size_t k = 0; k < m_states.size(); ++k) m_states[k]->copy_to(m_scene.state(int(k)));
+}
+
+void PyClothScene::from_scene() {
+  for (std::size_t k = 0; k < m_states.size(); ++k) m_states[k]->copy_from(m_scene.state(int(k)));
+}
+
+namespace {
+
+/// \throws InvalidParameter naming `state` unless it has one node per node of `cloth`.
+void require_fits(const drape::Clothd& cloth, const SharedState& state) {
+  if (state.node_count() != cloth.node_count())
+    drape::detail::fail_argument("state", std::to_string(state.node_count()) + " nodes",
+                                 std::to_string(cloth.node_count()) + " nodes (the cloth's)");
+}
+
+const drape::Stated& fitting_state(const drape::Clothd& cloth, const SharedState& state) {
+  require_fits(cloth, state);
+  return state.shared;
+}
+
+// ---- the bindings -------------------------------------------------------------------------------
+
+void bind_settings(nb::module_& m) {
+  nb::class_<drape::SpringParams<double>>(m, "SpringParams",
+                                          "Stiffness ks (N/m) and damping kd (N s/m) of one spring category.")
+      .def(nb::init<double, double>(), "stiffness"_a, "damping"_a)
+      .def_rw("stiffness", &drape::SpringParams<double>::stiffness, "ks in N/m, >= 0.")
+      .def_rw("damping", &drape::SpringParams<double>::damping, "kd in N s/m, >= 0.")
+      .def("__repr__", [](const drape::SpringParams<double>& p) {
+        return "SpringParams(stiffness=" + drape::detail::to_text(p.stiffness) +
+               ", damping=" + drape::detail::to_text(p.damping) + ")";
+      });
+
+  using Coefficients = drape::SpringCoefficients<double>;
+  nb::class_<Coefficients>(m, "SpringCoefficients",
+                           "One SpringParams per category: structural, shear and bend (docs/conventions.md).")
+      .def(
+          "__init__",
+          [](Coefficients* self, std::optional<SpringInput> structural, std::optional<SpringInput> shear,
+             std::optional<SpringInput> bend) {
+            new (self) Coefficients(drape::ClothSpecd::default_springs());
+            if (structural) self->structural = spring_params(*structural);
+            if (shear) self->shear = spring_params(*shear);
+            if (bend) self->bend = spring_params(*bend);
+          },
+          nb::kw_only(), "structural"_a = nb::none(), "shear"_a = nb::none(), "bend"_a = nb::none(),
+          "The defaults of docs/parameters.md, with the categories given replaced; each is a SpringParams or "
+          "a pair (stiffness, damping).")
+      .def_rw("structural", &Coefficients::structural, "Row and column neighbours, rest length h.")
+      .def_rw("shear", &Coefficients::shear, "Both cell diagonals, rest length h sqrt(2).")
+      .def_rw("bend", &Coefficients::bend, "Nodes two apart along rows and columns, rest length 2h.")
+      .def("validate", &Coefficients::validate, "Raises InvalidParameter naming e.g. 'shear.stiffness'.");
+
+  using Placement = drape::Placement<double>;
+  nb::class_<Placement>(m, "Placement", "Where a cloth's flat grid starts: node 0's position (m) and a rotation.")
+      .def(
+          "__init__",
+          [](Placement* self, const Vector& position, const Vector& rotation_degrees) {
+            new (self) Placement();
+            self->position = vec3(position);
+            self->rotation_degrees = vec3(rotation_degrees);
+          },
+          "position"_a = Vector{0, 0, 0}, "rotation_degrees"_a = Vector{0, 0, 0})
+      .def_prop_rw(
+          "position", [](const Placement& p) { return array3(p.position); },
+          [](Placement& p, const Vector& v) { p.position = vec3(v); }, "m: where the grid's node 0 goes.")
+      .def_prop_rw(
+          "rotation_degrees", [](const Placement& p) { return array3(p.rotation_degrees); },
+          [](Placement& p, const Vector& v) { p.rotation_degrees = vec3(v); },
+          "Degrees about x, then y, then z (fixed axes).");
+
+  using SelfCollision = drape::SelfCollisionSettings<double>;
+  nb::class_<SelfCollision>(m, "SelfCollisionSettings",
+                            "How cloth collides with itself and with other cloths (docs/contact.md); off by default.")
+      .def(
+          "__init__",
+          [](SelfCollision* self, bool enabled, double friction, int impulse_rounds, double separation_rate) {
+            new (self) SelfCollision{enabled, friction, impulse_rounds, separation_rate};
+          },
+          "enabled"_a = false, "friction"_a = 0.3, "impulse_rounds"_a = 4, "separation_rate"_a = 0.5)
+      .def_rw("enabled", &SelfCollision::enabled, "On: layers keep twice the contact thickness apart.")
+      .def_rw("friction", &SelfCollision::friction, "Coulomb friction between layers, >= 0.")
+      .def_rw("impulse_rounds", &SelfCollision::impulse_rounds,
+              "Continuous-collision rounds with impulses before impact zones, [0, 64].")
+      .def_rw("separation_rate", &SelfCollision::separation_rate,
+              "Fraction of the missing distance restored per step, (0, 1].")
+      .def("validate", &SelfCollision::validate, "Raises InvalidParameter naming the setting.");
+
+  nb::class_<drape::GustSettings>(m, "GustSettings", "Gusts on top of the mean wind (none by default).")
+      .def(
+          "__init__",
+          [](drape::GustSettings* self, double amplitude, double period, double wavelength, int waves,
+             std::uint64_t seed) {
+            new (self) drape::GustSettings{amplitude, period, wavelength, waves, seed};
+          },
+          "amplitude"_a = 0.0, "period"_a = 2.0, "wavelength"_a = 8.0, "waves"_a = 4, "seed"_a = 1)
+      .def_rw("amplitude", &drape::GustSettings::amplitude, "m/s: largest gust speed (0: no gusts).")
+      .def_rw("period", &drape::GustSettings::period, "s: typical time between gusts, > 0.")
+      .def_rw("wavelength", &drape::GustSettings::wavelength, "m: typical gust size, > 0.")
+      .def_rw("waves", &drape::GustSettings::waves, "Travelling waves summed, [1, 64].")
+      .def_rw("seed", &drape::GustSettings::seed, "The gusts' seed.");
+
+  nb::class_<drape::AerodynamicSettings>(m, "AerodynamicSettings", "Per-triangle aerodynamic drag and lift.")
+      .def(
+          "__init__",
+          [](drape::AerodynamicSettings* self, double density, double drag_coefficient, double lift_coefficient) {
+            new (self) drape::AerodynamicSettings{density, drag_coefficient, lift_coefficient};
+          },
+          "density"_a = 1.2, "drag_coefficient"_a = 0.0, "lift_coefficient"_a = 0.0)
+      .def_rw("density", &drape::AerodynamicSettings::density, "kg/m^3, >= 0.")
+      .def_rw("drag_coefficient", &drape::AerodynamicSettings::drag_coefficient, "C_d, >= 0 (0: off).")
+      .def_rw("lift_coefficient", &drape::AerodynamicSettings::lift_coefficient, "C_l, >= 0 (0: off).");
+
+  nb::class_<drape::AirSettings>(m, "AirSettings",
+                                 "Wind, gusts, linear drag and aerodynamic drag and lift; still and inactive by "
+                                 "default (the cloth gets force terms only when active).")
+      .def(
+          "__init__",
+          [](drape::AirSettings* self, const Vector& wind, std::optional<drape::GustSettings> gusts, double drag,
+             std::optional<drape::AerodynamicSettings> aerodynamics) {
+            new (self) drape::AirSettings();
+            self->wind = wind;
+            if (gusts) self->gusts = *gusts;
+            self->drag = drag;
+            if (aerodynamics) self->aerodynamics = *aerodynamics;
+          },
+          "wind"_a = Vector{0, 0, 0}, "gusts"_a = nb::none(), "drag"_a = 0.0, "aerodynamics"_a = nb::none())
+      .def_rw("wind", &drape::AirSettings::wind, "Mean wind (m/s).")
+      .def_rw("gusts", &drape::AirSettings::gusts, "GustSettings.")
+      .def_rw("drag", &drape::AirSettings::drag, "Linear drag per node (N s/m), -c (v - wind).")
+      .def_rw("aerodynamics", &drape::AirSettings::aerodynamics, "AerodynamicSettings.")
+      .def_prop_ro("active", &drape::AirSettings::active, "True if the air exerts any force.")
+      .def("validate", &drape::AirSettings::validate, "Raises InvalidParameter naming the setting.");
+}
+
+void bind_collider(nb::module_& m) {
+  using Collider = drape::Colliderd;
+  nb::class_<Collider>(m, "Collider",
+                       "A rigid shape the cloth cannot enter (plane, sphere, capsule, box), static or moving with "
+                       "constant velocities, with Coulomb friction (docs/contact.md).")
+      .def_static(
+          "plane", [](const Vector& point, const Vector& normal) { return Collider::plane(vec3(point), vec3(normal)); },
+          "point"_a, "normal"_a, "The half-space below the plane through `point` with outward `normal` (any length).")
+      .def_static(
+          "sphere", [](const Vector& center, double radius) { return Collider::sphere(vec3(center), radius); },
+          "center"_a, "radius"_a, "A sphere.")
+      .def_static(
+          "capsule",
+          [](const Vector& a, const Vector& b, double radius) { return Collider::capsule(vec3(a), vec3(b), radius); },
+          "a"_a, "b"_a, "radius"_a, "The segment a-b inflated by `radius`.")
+      .def_static(
+          "box",
+          [](const Vector& center, const Vector& half_extents, std::optional<std::array<Vector, 3>> rotation,
+             double rounding) {
+            drape::Mat3<double> r = drape::Mat3<double>::Identity();
+            if (rotation)
+              for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) r(i, j) = (*rotation)[std::size_t(i)][std::size_t(j)];
+            return Collider::box(vec3(center), vec3(half_extents), r, rounding);
+          },
+          "center"_a, "half_extents"_a, "rotation"_a = nb::none(), "rounding"_a = 0.0,
+          "A box; `rotation` a 3x3 rotation matrix (rows), `rounding` the radius of its edges and corners.")
+      .def(
+          "set_friction",
+          [](Collider& c, double static_coefficient, std::optional<double> kinetic_coefficient) -> Collider& {
+            return c.set_friction(static_coefficient, kinetic_coefficient.value_or(static_coefficient));
+          },
+          "static"_a, "kinetic"_a = nb::none(), nb::rv_policy::reference,
+          "Coulomb coefficients (kinetic defaults to static); returns the collider.")
+      .def(
+          "moving",
+          [](Collider& c, const Vector& velocity, const Vector& angular_velocity) -> Collider& {
+            return c.moving(vec3(velocity), vec3(angular_velocity));
+          },
+          "velocity"_a, "angular_velocity"_a = Vector{0, 0, 0}, nb::rv_policy::reference,
+          "Constant velocities (m/s, rad/s) from its placement at t = 0, spinning about its centre; returns "
+          "the collider.")
+      .def_prop_ro(
+          "kind", [](const Collider& c) { return std::string(drape::to_string(c.kind())); },
+          "'plane', 'sphere', 'capsule' or 'box'.")
+      .def_prop_ro("radius", &Collider::radius, "Sphere and capsule radius (0 otherwise).")
+      .def_prop_ro("half_length", &Collider::half_length, "Capsule half length (0 otherwise).")
+      .def_prop_ro(
+          "half_extents", [](const Collider& c) { return array3(c.half_extents()); }, "Box half extents.")
+      .def_prop_ro("rounding", &Collider::rounding, "Box edge rounding.")
+      .def_prop_ro("static_friction", &Collider::static_friction, "Static friction coefficient.")
+      .def_prop_ro("kinetic_friction", &Collider::kinetic_friction, "Kinetic friction coefficient.")
+      .def_prop_ro(
+          "is_static", [](const Collider& c) { return c.motion().is_static(); }, "True if it never moves.")
+      .def(
+          "query",
+          [](const Collider& c, const Vector& x, double t) {
+            const drape::ColliderContact<double> q = c.query(vec3(x), t);
+            return std::make_tuple(q.distance, array3(q.normal), array3(q.velocity));
+          },
+          "x"_a, "t"_a = 0.0, "(signed distance, outward normal, surface velocity) at world point x and time t.")
+      .def("__repr__", [](const Collider& c) { return std::string("Collider(") + drape::to_string(c.kind()) + ")"; });
+}
+
+void bind_spec_and_cloth(nb::module_& m) {
+  nb::class_<ClothSpecWithAir>(m, "ClothSpec",
+                               "Everything that defines a cloth. Defaults: the course model (33 x 33 nodes 0.1 m "
+                               "apart, 0.03 kg each, g = 10 m/s^2, two corners pinned), the springs of "
+                               "docs/parameters.md, still air, no colliders.")
+      .def(
+          "__init__",
+          [](ClothSpecWithAir* self, std::optional<int> nx, std::optional<int> ny, std::optional<double> spacing,
+             std::optional<double> node_mass, std::optional<double> gravity,
+             std::optional<drape::SpringCoefficients<double>> springs, std::optional<SpringInput> structural,
+             std::optional<SpringInput> shear, std::optional<SpringInput> bend, std::optional<std::string> boundary,
+             std::optional<std::vector<int>> pinned_nodes, std::optional<std::vector<drape::Colliderd>> colliders,
+             std::optional<double> contact_thickness,
+             std::optional<drape::SelfCollisionSettings<double>> self_collision,
+             std::optional<drape::Placement<double>> placement, std::optional<drape::AirSettings> air) {
+            new (self) ClothSpecWithAir();
+            if (nx) self->nx = *nx;
+            if (ny) self->ny = *ny;
+            if (spacing) self->spacing = *spacing;
+            if (node_mass) self->node_mass = *node_mass;
+            if (gravity) self->gravity = *gravity;
+            if (springs) self->springs = *springs;
+            if (structural) self->springs.structural = spring_params(*structural);
+            if (shear) self->springs.shear = spring_params(*shear);
+            if (bend) self->springs.bend = spring_params(*bend);
+            if (boundary) self->boundary = drape::parse<drape::BoundaryCondition>(*boundary);
+            if (pinned_nodes) self->pinned_nodes = *pinned_nodes;
+            if (colliders) self->colliders = *colliders;
+            if (contact_thickness) self->contact_thickness = *contact_thickness;
+            if (self_collision) self->self_collision = *self_collision;
+            if (placement) self->placement = *placement;
+            if (air) self->air = *air;
+          },
+          nb::kw_only(), "nx"_a = nb::none(), "ny"_a = nb::none(), "spacing"_a = nb::none(), "node_mass"_a = nb::none(),
+          "gravity"_a = nb::none(), "springs"_a = nb::none(), "structural"_a = nb::none(), "shear"_a = nb::none(),
+          "bend"_a = nb::none(), "boundary"_a = nb::none(), "pinned_nodes"_a = nb::none(), "colliders"_a = nb::none(),
+          "contact_thickness"_a = nb::none(), "self_collision"_a = nb::none(), "placement"_a = nb::none(),
+          "air"_a = nb::none(),
+          "Keyword arguments set the fields of the same name (None keeps the default); structural, shear and "
+          "bend replace one category of `springs` each (a SpringParams or (stiffness, damping)). Nothing is "
+          "checked until validate() or Cloth(spec).")
+      .def_rw("nx", &ClothSpecWithAir::nx, "Nodes along x, [2, 10000].")
+      .def_rw("ny", &ClothSpecWithAir::ny, "Nodes along z, [2, 10000].")
+      .def_rw("spacing", &ClothSpecWithAir::spacing, "m between neighbours, > 0.")
+      .def_rw("node_mass", &ClothSpecWithAir::node_mass, "kg per node, > 0.")
+      .def_rw("gravity", &ClothSpecWithAir::gravity, "m/s^2 along -y, >= 0.")
+      .def_rw("springs", &ClothSpecWithAir::springs,
+              "SpringCoefficients (edit in place: spec.springs.shear.stiffness).")
+      .def_prop_rw(
+          "boundary", [](const ClothSpecWithAir& s) { return std::string(drape::to_string(s.boundary)); },
+          [](ClothSpecWithAir& s, const std::string& name) {
+            s.boundary = drape::parse<drape::BoundaryCondition>(name);
+          },
+          "'one-corner' or 'two-corners': the pins unless pinned_nodes is set.")
+      .def_rw("pinned_nodes", &ClothSpecWithAir::pinned_nodes,
+              "Node ids (j*nx + i) pinned instead of the boundary preset; None: the preset.")
+      .def_rw("colliders", &ClothSpecWithAir::colliders, "List of Collider (assign a new list to change it).")
+      .def_rw("contact_thickness", &ClothSpecWithAir::contact_thickness,
+              "m: the cloth's half-thickness; nodes rest this far from a collider, >= 0.")
+      .def_rw("self_collision", &ClothSpecWithAir::self_collision, "SelfCollisionSettings of this cloth alone.")
+      .def_rw("placement", &ClothSpecWithAir::placement, "Placement of the flat grid.")
+      .def_rw("air", &ClothSpecWithAir::air, "AirSettings: its force terms are added when the Cloth is built.")
+      .def(
+          "validate", [](const ClothSpecWithAir& s) { (void)library_spec(s); },
+          "Raises InvalidParameter naming the first invalid parameter (e.g. 'shear.damping').");
+
+  using Cloth = drape::Clothd;
+  nb::class_<Cloth>(m, "Cloth",
+                    "The model built from a ClothSpec (grid, springs, pins, gravity, air, colliders), read-only; "
+                    "integrators keep it alive.")
+      .def(
+          "__init__", [](Cloth* self, const ClothSpecWithAir& spec) { new (self) Cloth(library_spec(spec)); },
+          "spec"_a = ClothSpecWithAir(), "Validates `spec`: InvalidParameter names the parameter.")
+      .def_prop_ro("node_count", &Cloth::node_count, "Number of nodes, nx * ny.")
+      .def_prop_ro(
+          "nx", [](const Cloth& c) { return c.grid().nx(); }, "Nodes along x.")
+      .def_prop_ro(
+          "ny", [](const Cloth& c) { return c.grid().ny(); }, "Nodes along z.")
+      .def_prop_ro(
+          "spacing", [](const Cloth& c) { return c.grid().spacing(); }, "m between neighbours.")
+      .def_prop_ro(
+          "gravity", [](const Cloth& c) { return array3(c.gravity()); }, "Gravity vector (m/s^2).")
+      .def_prop_ro(
+          "pinned_nodes", [](const Cloth& c) { return c.pins().nodes(); }, "The pinned node ids, sorted.")
+      .def_prop_ro("colliders", &Cloth::colliders, "The colliders (copies).")
+      .def_prop_ro("contact_thickness", &Cloth::contact_thickness, "m.")
+      .def_prop_ro(
+          "force_terms",
+          [](const Cloth& c) {
+            std::vector<std::string> names;
+            for (const auto& t : c.force_terms()) names.push_back(t->name());
+            return names;
+          },
+          "Names of the forces besides springs and gravity (the air's).")
+      .def_prop_ro(
+          "spring_count", [](const Cloth& c) { return c.springs().size(); }, "Number of springs.")
+      .def(
+          "node", [](const Cloth& c, int i, int j) { return c.grid().node(i, j); }, "i"_a, "j"_a,
+          "The id of node (i, j): j * nx + i.")
+      .def_prop_ro(
+          "triangles", [](const Cloth& c) { return triangle_array(c.grid().triangles()); }, nb::rv_policy::automatic,
+          "(m, 3) int32 node ids of the mesh's triangles, counter-clockwise seen from +y.")
+      .def_prop_ro(
+          "start_positions",
+          [](const Cloth& c) {
+            drape::Matrix3X<double> x = c.start_positions();
+            return NodeArray(x.data(), {std::size_t(x.cols()), 3}).cast();
+          },
+          "(n, 3) copy of the start positions (the flat grid, placed).")
+      .def(
+          "initial_state", [](const Cloth& c) { return SharedState(c.initial_state()); },
+          "A new State: the flat grid where the placement puts it, at rest, t = 0.")
+      .def(
+          "kinetic_energy",
+          [](const Cloth& c, const SharedState& s) { return drape::kinetic_energy(c, fitting_state(c, s)); }, "state"_a,
+          "J.")
+      .def(
+          "spring_energy",
+          [](const Cloth& c, const SharedState& s) {
+            return drape::spring_potential_energy(c, fitting_state(c, s).positions);
+          },
+          "state"_a, "J: elastic energy of the springs.")
+      .def(
+          "gravity_energy",
+          [](const Cloth& c, const SharedState& s) {
+            return drape::gravitational_potential_energy(c, fitting_state(c, s).positions);
+          },
+          "state"_a, "J: -m g . x summed (0 at the rest height).")
+      .def(
+          "total_energy",
+          [](const Cloth& c, const SharedState& s) { return drape::total_energy(c, fitting_state(c, s)); }, "state"_a,
+          "J: kinetic + spring + gravity.")
+      .def(
+          "max_strain",
+          [](const Cloth& c, const SharedState& s) { return drape::max_strain(c, fitting_state(c, s).positions); },
+          "state"_a, "Largest relative spring elongation (L - l) / l.")
+      .def(
+          "pin_reaction",
+          [](const Cloth& c, const SharedState& s) { return array3(drape::pin_reaction(c, fitting_state(c, s))); },
+          "state"_a, "N: the force the cloth's own pins exert on it (balances the weight at rest).");
+}
+
+void bind_state(nb::module_& m) {
+  nb::class_<SharedState>(m, "State",
+                          "Positions (m) and velocities (m/s) as (n, 3) numpy arrays shared with the C++ state (no "
+                          "copy; writing into them changes the state; the same buffers for the state's life), and "
+                          "the time (s).")
+      .def(
+          "__init__",
+          [](SharedState* self, const NodeInput& positions, std::optional<NodeInput> velocities, double time) {
+            drape::Stated s;
+            s.positions = matrix_of(positions);
+            s.velocities = drape::Matrix3X<double>::Zero(3, s.positions.cols());
+            if (velocities) assign_nodes(s.velocities, *velocities, "velocities");
+            s.time = time;
+            new (self) SharedState(std::move(s));
+          },
+          "positions"_a, "velocities"_a = nb::none(), "time"_a = 0.0,
+          "A state from (n, 3) positions (copied), velocities (zero if None) and time.")
+      .def_prop_rw(
+          "positions",
+          [](nb::handle_t<SharedState> self) { return node_view(nb::cast<SharedState&>(self).shared.positions, self); },
+          [](SharedState& s, const NodeInput& a) { assign_nodes(s.shared.positions, a, "positions"); },
+          nb::rv_policy::reference_internal,
+          "(n, 3) float64 view of the positions; assigning copies into the same buffer.")
+      .def_prop_rw(
+          "velocities",
+          [](nb::handle_t<SharedState> self) {
+            return node_view(nb::cast<SharedState&>(self).shared.velocities, self);
+          },
+          [](SharedState& s, const NodeInput& a) { assign_nodes(s.shared.velocities, a, "velocities"); },
+          nb::rv_policy::reference_internal,
+          "(n, 3) float64 view of the velocities; assigning copies into the same buffer.")
+      .def_prop_rw(
+          "time", [](const SharedState& s) { return s.shared.time; },
+          [](SharedState& s, double t) { s.shared.time = t; }, "s.")
+      .def_prop_ro("node_count", &SharedState::node_count, "Number of nodes.")
+      .def(
+          "copy", [](const SharedState& s) { return SharedState(s.shared); }, "An independent copy.")
+      .def(
+          "all_finite", [](const SharedState& s) { return s.shared.all_finite(); },
+          "True if no position or velocity is NaN or infinite.")
+      .def("__repr__", [](const SharedState& s) {
+        return "State(nodes=" + std::to_string(s.node_count()) + ", time=" + drape::detail::to_text(s.shared.time) +
+               ")";
+      });
+}
+
+void bind_options(nb::module_& m) {
+  nb::class_<drape::IntegratorOptions>(m, "IntegratorOptions", "The time step and threads every integrator takes.")
+      .def(
+          "__init__",
+          [](drape::IntegratorOptions* self, double dt, int threads) {
+            new (self) drape::IntegratorOptions{dt, threads};
+          },
+          "dt"_a = 0.0005, "threads"_a = 0)
+      .def_rw("dt", &drape::IntegratorOptions::dt, "s, > 0; the default suits the explicit integrators.")
+      .def_rw("threads", &drape::IntegratorOptions::threads, "0 = all cores.")
+      .def("validate", &drape::IntegratorOptions::validate, "Raises InvalidParameter naming 'dt' or 'threads'.");
+
+  using Options = drape::ImplicitOptions;
+  nb::class_<Options, drape::IntegratorOptions>(
+      m, "ImplicitOptions",
+      "The implicit integrator's options (docs/implicit.md): dt and threads, the Jacobian, the linear solver "
+      "and its preconditioner, tolerance, pins, Newton iterations, contact rounds. Option names are strings.")
+      .def(
+          "__init__",
+          [](Options* self, double dt, int threads, const std::string& jacobian, const std::string& solver,
+             const std::string& preconditioner, double tolerance, int max_iterations, const std::string& pin_treatment,
+             int newton_iterations, double newton_tolerance, int contact_rounds) {
+            Options o;
+            o.dt = dt;
+            o.threads = threads;
+            o.jacobian = drape::parse<drape::JacobianVariant>(jacobian);
+            o.solver = drape::parse<drape::LinearSolverKind>(solver);
+            o.preconditioner = drape::parse<drape::PreconditionerKind>(preconditioner);
+            o.tolerance = tolerance;
+            o.max_iterations = max_iterations;
+            o.pin_treatment = drape::parse<drape::PinTreatment>(pin_treatment);
+            o.newton_iterations = newton_iterations;
+            o.newton_tolerance = newton_tolerance;
+            o.contact_rounds = contact_rounds;
+            new (self) Options(o);
+          },
+          "dt"_a = 0.0005, "threads"_a = 0, "jacobian"_a = "spd", "solver"_a = "cg", "preconditioner"_a = "multigrid",
+          "tolerance"_a = 1e-6, "max_iterations"_a = 2000, "pin_treatment"_a = "eliminate", "newton_iterations"_a = 1,
+          "newton_tolerance"_a = 1e-6, "contact_rounds"_a = 2,
+          "Names are the library's (option_names()); a wrong one raises InvalidParameter listing the names.")
+      .def_prop_rw(
+          "jacobian", [](const Options& o) { return std::string(drape::to_string(o.jacobian)); },
+          [](Options& o, const std::string& n) { o.jacobian = drape::parse<drape::JacobianVariant>(n); },
+          "Jacobian variant, e.g. 'spd' (default) or 'exact'.")
+      .def_prop_rw(
+          "solver", [](const Options& o) { return std::string(drape::to_string(o.solver)); },
+          [](Options& o, const std::string& n) { o.solver = drape::parse<drape::LinearSolverKind>(n); },
+          "Linear solver: 'cg' (default), 'bicgstab', 'ldlt', 'lu' (and 'cholmod', 'umfpack' when built in).")
+      .def_prop_rw(
+          "preconditioner", [](const Options& o) { return std::string(drape::to_string(o.preconditioner)); },
+          [](Options& o, const std::string& n) { o.preconditioner = drape::parse<drape::PreconditionerKind>(n); },
+          "cg's preconditioner: 'multigrid' (default) or 'block-jacobi'.")
+      .def_rw("tolerance", &Options::tolerance, "Relative residual of the iterative solvers, (0, 1).")
+      .def_rw("max_iterations", &Options::max_iterations, "Iteration cap of the iterative solvers, >= 1.")
+      .def_prop_rw(
+          "pin_treatment", [](const Options& o) { return std::string(drape::to_string(o.pin_treatment)); },
+          [](Options& o, const std::string& n) { o.pin_treatment = drape::parse<drape::PinTreatment>(n); },
+          "'eliminate' (default) or 'filter'.")
+      .def_rw("newton_iterations", &Options::newton_iterations, "1: Baraff & Witkin's single linearised step.")
+      .def_rw("newton_tolerance", &Options::newton_tolerance, "Newton's stopping tolerance.")
+      .def_rw("contact_rounds", &Options::contact_rounds, "Linear solves per step while contacts change, [1, 32].")
+      .def("validate", &Options::validate, "Raises InvalidParameter naming the first invalid option.");
+}
+
+void bind_pins(nb::module_& m) {
+  using Path = drape::PinPath<double>;
+  nb::class_<Path>(m, "PinPath",
+                   "Where a pinned node is at time t: held where it is (PinPath()), along key frames, or given "
+                   "by a Python function of time.")
+      .def(nb::init<>(), "Holds the node where it is.")
+      .def_static(
+          "keyframes",
+          [](std::vector<double> times, const std::vector<Vector>& positions, const std::string& interpolation) {
+            std::vector<drape::Vec3<double>> p;
+            for (const Vector& v : positions) p.push_back(vec3(v));
+            return Path::keyframes(std::move(times), std::move(p), drape::parse<drape::Interpolation>(interpolation));
+          },
+          "times"_a, "positions"_a, "interpolation"_a = "smooth",
+          "Through `positions` (m) at `times` (s, increasing); 'smooth' (C1, at rest at the ends) or 'linear'.")
+      .def_static("callback", &callback_path, "position"_a,
+                  "position(t) -> (x, y, z), called with the GIL during steps; an exception it raises fails the "
+                  "step and is re-raised.")
+      .def_prop_ro("holds", &Path::holds, "True for a pin that stays where it is.")
+      .def(
+          "position",
+          [](const Path& p, double t, const Vector& current) { return array3(p.position(t, vec3(current))); }, "t"_a,
+          "current"_a = Vector{0, 0, 0}, "The position at t (`current` for a holding pin).");
+
+  using Set = drape::PinSet<double>;
+  nb::class_<Set>(m, "PinSet",
+                  "The pins of an integrator's run: start as the cloth's, holding; pin, move and release nodes "
+                  "between steps.")
+      .def(
+          "pin", [](Set& s, int node, std::optional<Path> path) { s.pin(node, path ? *path : Path()); }, "node"_a,
+          "path"_a = nb::none(), "Pins `node` to `path` (default: holds it where it is).")
+      .def("release", &Set::release, "node"_a, "Frees `node`; False if it was not pinned.")
+      .def(
+          "is_pinned",
+          [](const Set& s, int node) {
+            drape::Pins::validate({node}, s.node_count());
+            return s.is_pinned(node);
+          },
+          "node"_a, "True if `node` is pinned.")
+      .def_prop_ro("nodes", &Set::nodes, "Pinned nodes, sorted.")
+      .def_prop_ro("count", &Set::count, "Number of pinned nodes.")
+      .def("__len__", &Set::count, "Number of pinned nodes.");
+}
+
+void bind_reports(nb::module_& m) {
+  using Contact = drape::ContactReport<double>;
+  nb::class_<Contact>(m, "ContactReport", "What the contacts with colliders did in the last step.")
+      .def_ro("contacts", &Contact::contacts, "Nodes in contact.")
+      .def_ro("sticking", &Contact::sticking, "Of which friction held still.")
+      .def_ro("sliding", &Contact::sliding, "Of which slid.")
+      .def_ro("corrected", &Contact::corrected, "Nodes the end-of-step check pushed out.")
+      .def_ro("after_solve", &Contact::after_solve, "Contacts resolved by an impulse after the solve.")
+      .def_ro("rounds", &Contact::rounds, "Implicit step: linear solves.")
+      .def_ro("deepest", &Contact::deepest, "m: deepest penetration before the check.")
+      .def_prop_ro(
+          "normal_force", [](const Contact& c) { return array3(c.normal_force); }, "N, total.")
+      .def_prop_ro(
+          "friction_force", [](const Contact& c) { return array3(c.friction_force); }, "N, total.");
+
+  using Self = drape::SelfCollisionReport;
+  nb::class_<Self>(m, "SelfCollisionReport", "What self-collision did in the last step.")
+      .def_ro("proximity_pairs", &Self::proximity_pairs, "Pairs closer than 2h at the start.")
+      .def_ro("repulsions", &Self::repulsions, "Of which were stopped or pushed apart.")
+      .def_ro("impacts", &Self::impacts, "Crossings resolved by impulses.")
+      .def_ro("impulse_rounds", &Self::impulse_rounds, "Rounds of continuous tests.")
+      .def_ro("zones", &Self::zones, "Impact zones moved rigidly.")
+      .def_ro("zone_nodes", &Self::zone_nodes, "Nodes in those zones.")
+      .def_ro("unresolved", &Self::unresolved, "Crossings left.");
+
+  nb::class_<drape::StepStatus>(m, "StepStatus", "A successful step's solver statistics.")
+      .def_ro("iterations", &drape::StepStatus::iterations, "Linear-solver iterations (0 for explicit steps).")
+      .def_ro("residual", &drape::StepStatus::residual, "Final relative residual (0 for explicit steps).")
+      .def("__repr__", [](const drape::StepStatus& s) {
+        return "StepStatus(iterations=" + std::to_string(s.iterations) +
+               ", residual=" + drape::detail::to_text(s.residual) + ")";
+      });
+}
+
+const char* const run_doc =
+    "Steps `state` for `seconds` (round(seconds / dt) steps) with the GIL released. Without `frame_time`, "
+    "callback(state) is called after every step; with it, after every whole frame (k * frame_time from the "
+    "start, rounded to steps). The state's arrays are current in the callback and may be written; a callback "
+    "returning False stops the run. Returns the steps taken. Raises SimulationError (state as after the last "
+    "good step) if a step fails.";
+
+void bind_integrators(nb::module_& m) {
+  using Integrator = drape::Integrator<double>;
+  nb::class_<Integrator>(m, "Integrator",
+                         "What every integrator shares: its cloth, time step, pins, contact reports, step() and "
+                         "run().")
+      .def_prop_rw("dt", &Integrator::dt, &Integrator::set_dt, "The time step (s), > 0.")
+      .def_prop_ro("cloth", &Integrator::cloth, nb::rv_policy::reference_internal, "The cloth it advances.")
+      .def_prop_ro("pins", nb::overload_cast<>(&Integrator::pins), nb::rv_policy::reference_internal,
+                   "The pins of the run (PinSet).")
+      .def_prop_ro("contact_report", &Integrator::contact_report, nb::rv_policy::copy,
+                   "ContactReport of the last step (a copy).")
+      .def_prop_ro("self_collision_report", &Integrator::self_collision_report, nb::rv_policy::copy,
+                   "SelfCollisionReport of the last step (a copy).")
+      .def(
+          "step",
+          [](Integrator& integrator, SharedState& state) {
+            require_fits(integrator.cloth(), state);
+            return step_integrator(integrator, state);
+          },
+          "state"_a,
+          "Advances `state` by dt, with the GIL released. Returns a StepStatus; raises SimulationError (state "
+          "unchanged) if the step fails.")
+      .def(
+          "run",
+          [](Integrator& integrator, nb::handle_t<SharedState> handle, double seconds,
+             std::optional<nb::callable> callback, std::optional<double> frame_time) {
+            SharedState& state = nb::cast<SharedState&>(handle);
+            require_fits(integrator.cloth(), state);
+            BusyGuard busy({&integrator, &state}, "this integrator or state");
+            return run_loop(
+                steps_for(seconds, integrator.dt()), integrator.dt(), callback, frame_time, handle,
+                [&] { return integrator.step(state.own_work); }, [&] { state.copy_from(state.own_work); },
+                [&] { state.copy_to(state.own_work); }, [&] { return state.shared.time; });
+          },
+          "state"_a, "seconds"_a, "callback"_a = nb::none(), "frame_time"_a = nb::none(), run_doc);
+
+  nb::class_<drape::Rk2<double>, Integrator>(m, "Rk2", "Explicit midpoint rule (RK2); conditionally stable.")
+      .def(
+          "__init__",
+          [](drape::Rk2<double>* self, const drape::Clothd& cloth, std::optional<drape::IntegratorOptions> options,
+             std::optional<double> dt, std::optional<int> threads) {
+            drape::IntegratorOptions o = options.value_or(drape::IntegratorOptions{});
+            if (dt) o.dt = *dt;
+            if (threads) o.threads = *threads;
+            new (self) drape::Rk2<double>(cloth, o);
+          },
+          "cloth"_a, "options"_a = nb::none(), nb::kw_only(), "dt"_a = nb::none(), "threads"_a = nb::none(),
+          nb::keep_alive<1, 2>(), "dt and threads override `options` (IntegratorOptions).");
+
+  nb::class_<drape::SymplecticEuler<double>, Integrator>(m, "SymplecticEuler",
+                                                         "Symplectic (semi-implicit) Euler: one force pass per step.")
+      .def(
+          "__init__",
+          [](drape::SymplecticEuler<double>* self, const drape::Clothd& cloth,
+             std::optional<drape::IntegratorOptions> options, std::optional<double> dt, std::optional<int> threads) {
+            drape::IntegratorOptions o = options.value_or(drape::IntegratorOptions{});
+            if (dt) o.dt = *dt;
+            if (threads) o.threads = *threads;
+            new (self) drape::SymplecticEuler<double>(cloth, o);
+          },
+          "cloth"_a, "options"_a = nb::none(), nb::kw_only(), "dt"_a = nb::none(), "threads"_a = nb::none(),
+          nb::keep_alive<1, 2>(), "dt and threads override `options` (IntegratorOptions).");
+
+  using Implicit = drape::ImplicitEuler<double>;
+  nb::class_<Implicit, Integrator>(m, "ImplicitEuler",
+                                   "Linearised implicit Euler (Baraff & Witkin), stable at large steps.")
+      .def(
+          "__init__",
+          [](Implicit* self, const drape::Clothd& cloth, std::optional<drape::ImplicitOptions> options,
+             std::optional<double> dt, std::optional<int> threads) {
+            drape::ImplicitOptions o = options.value_or(drape::ImplicitOptions{});
+            if (dt) o.dt = *dt;
+            if (threads) o.threads = *threads;
+            new (self) Implicit(cloth, o);
+          },
+          "cloth"_a, "options"_a = nb::none(), nb::kw_only(), "dt"_a = nb::none(), "threads"_a = nb::none(),
+          nb::keep_alive<1, 2>(), "dt and threads override `options` (ImplicitOptions).")
+      .def_prop_ro("options", &Implicit::options, nb::rv_policy::copy, "The ImplicitOptions (a copy).")
+      .def_prop_ro("newton_iterations_done", &Implicit::newton_iterations_done, "Newton iterations of the last step.")
+      .def_prop_ro("newton_residual", &Implicit::newton_residual, "Its final relative residual.");
+
+  m.def(
+      "make_integrator",
+      [](const drape::Clothd& cloth, const std::string& kind, std::optional<drape::ImplicitOptions> options) {
+        return drape::make_integrator(cloth, drape::parse<drape::IntegratorKind>(kind),
+                                      options.value_or(drape::ImplicitOptions{}));
+      },
+      "cloth"_a, "kind"_a = "rk2", "options"_a = nb::none(), nb::keep_alive<0, 1>(),
+      "An integrator by name ('rk2', 'implicit', 'symplectic'); the explicit ones read dt and threads only.");
+}
+
+void bind_scene(nb::module_& m) {
+  nb::class_<PyClothScene>(m, "ClothScene",
+                           "Several cloths stepped together, each with its own integrator; with collisions on they "
+                           "never pass through each other or themselves.")
+      .def(
+          "__init__",
+          [](PyClothScene* self, const std::vector<ClothSpecWithAir>& cloths, const std::string& integrator,
+             std::optional<drape::ImplicitOptions> options,
+             std::optional<drape::SelfCollisionSettings<double>> collisions) {
+            new (self) PyClothScene(cloths, drape::parse<drape::IntegratorKind>(integrator),
+                                    options.value_or(drape::ImplicitOptions{}),
+                                    collisions.value_or(drape::SelfCollisionSettings<double>{}));
+          },
+          "cloths"_a, "integrator"_a = "rk2", "options"_a = nb::none(), "collisions"_a = nb::none(),
+          "One Cloth and integrator ('rk2', 'implicit', 'symplectic', with `options`) per ClothSpec; "
+          "`collisions` (SelfCollisionSettings) between and within all of them.")
+      .def_prop_ro(
+          "cloth_count", [](PyClothScene& s) { return s.scene().cloth_count(); }, "Number of cloths.")
+      .def(
+          "cloth",
+          [](PyClothScene& s, int k) -> const drape::Clothd& {
+            (void)s.state(k);
+            return s.scene().cloth(k);
+          },
+          "k"_a, nb::rv_policy::reference_internal, "Cloth k.")
+      .def(
+          "integrator",
+          [](PyClothScene& s, int k) -> drape::Integrator<double>& {
+            (void)s.state(k);
+            return s.scene().integrator(k);
+          },
+          "k"_a, nb::rv_policy::reference_internal, "Cloth k's integrator (its pins, dt, reports).")
+      .def("state", &PyClothScene::state, "k"_a, nb::rv_policy::reference_internal,
+           "Cloth k's State: its arrays are shared and stay the same buffers for the scene's life.")
+      .def_prop_ro(
+          "states",
+          [](nb::handle_t<PyClothScene> h) {
+            PyClothScene& s = nb::cast<PyClothScene&>(h);
+            nb::list states;
+            for (int k = 0; k < s.scene().cloth_count(); ++k)
+              states.append(nb::cast(&s.state(k), nb::rv_policy::reference_internal, h));
+            return states;
+          },
+          "Every cloth's State.")
+      .def(
+          "node_offset", [](PyClothScene& s, int k) { return (void)s.state(k), s.scene().node_offset(k); }, "k"_a,
+          "Cloth k's first node in the scene's numbering.")
+      .def_prop_ro(
+          "time", [](PyClothScene& s) { return s.state(0).shared.time; }, "s: the first cloth's time.")
+      .def(
+          "step",
+          [](PyClothScene& s) {
+            BusyGuard busy({&s}, "this scene");
+            s.to_scene();
+            s.apply_schedule();
+            drape::StepStatus status;
+            {
+              nb::gil_scoped_release released;
+              status = s.scene().step();
+            }
+            if (!status || pending_callback_error()) fail_step(status, s.state(0).shared.time);
+            s.from_scene();
+            return status;
+          },
+          "Advances every cloth by dt, then their collisions, with the GIL released. Raises SimulationError "
+          "(no state changed) if a step fails.")
+      .def(
+          "run",
+          [](nb::handle_t<PyClothScene> handle, double seconds, std::optional<nb::callable> callback,
+             std::optional<double> frame_time) {
+            PyClothScene& s = nb::cast<PyClothScene&>(handle);
+            BusyGuard busy({&s}, "this scene");
+            const double dt = s.scene().integrator(0).dt();
+            return run_loop(
+                steps_for(seconds, dt), dt, callback, frame_time, handle,
+                [&] {
+                  s.apply_schedule();
+                  return s.scene().step();
+                },
+                [&] { s.from_scene(); }, [&] { s.to_scene(); }, [&] { return s.state(0).shared.time; });
+          },
+          "seconds"_a, "callback"_a = nb::none(), "frame_time"_a = nb::none(),
+          "As Integrator.run for every cloth: callback(scene).")
+      .def_prop_ro(
+          "collision_report", [](PyClothScene& s) { return s.scene().collision_report(); },
+          "SelfCollisionReport of the scene's handler, last step.")
+      .def(
+          "contact_force_on",
+          [](PyClothScene& s, int k) { return (void)s.state(k), array3(s.scene().contact_force_on(k)); }, "k"_a,
+          "N: mean force the other cloths put on cloth k over the last step.");
+}
+
+void bind_io(nb::module_& m) {
+  m.def(
+      "write_obj",
+      [](const std::string& path, const NodeInput& positions,
+         const nb::ndarray<const int, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>& triangles) {
+        const Eigen::Map<const drape::Matrix3X<double>> x(positions.data(), 3, Index(positions.shape(0)));
+        drape::write_obj(path, x, triangles_of(triangles));
+      },
+      "path"_a, "positions"_a, "triangles"_a,
+      "Writes an OBJ mesh atomically (complete or absent), coordinates with 17 digits (read back bit for "
+      "bit); raises FileWriteError.");
+  m.def(
+      "save_state", [](const std::string& path, const SharedState& state) { drape::save_state(path, state.shared); },
+      "path"_a, "state"_a, "Writes the state at full precision, atomically; raises FileWriteError.");
+  m.def(
+      "load_state",
+      [](const std::string& path, int expected_nodes) {
+        return SharedState(drape::load_state<double>(path, expected_nodes));
+      },
+      "path"_a, "expected_nodes"_a = -1,
+      "Reads a state file (bit-identical values); raises StateFormatError naming the file.");
+}
+
+}  // namespace
+
+}  // namespace drape::python
+
+NB_MODULE(_drape, m) {
+  using namespace drape::python;
+  m.doc() =
+      "drape: mass-spring cloth simulation (C++ library bindings). See docs/python.md; the pure-Python package "
+      "`drape` re-exports everything here.";
+  m.attr("__version__") = std::to_string(DRAPE_VERSION_MAJOR) + "." + std::to_string(DRAPE_VERSION_MINOR) + "." +
+                          std::to_string(DRAPE_VERSION_PATCH);
+
+  invalid_parameter_type =
+      PyErr_NewExceptionWithDoc("_drape.InvalidParameter",
+                                "A parameter outside its allowed range (a ValueError); .parameter, .value and "
+                                ".allowed give the three parts of the message.",
+                                PyExc_ValueError, nullptr);
+  m.attr("InvalidParameter") = nb::handle(invalid_parameter_type);
+  nb::register_exception_translator(translate_invalid_parameter);
+  nb::exception<StepFailed>(m, "SimulationError", PyExc_RuntimeError).attr("__doc__") =
+      "A step failed (diverged, or the linear solver failed); the state is as after the last good step.";
+  nb::exception<drape::render::SettingsError>(m, "SceneFileError", PyExc_ValueError).attr("__doc__") =
+      "A scene file or drape-render flag is invalid; the message names the key or flag.";
+  nb::exception<drape::StateFormatError>(m, "StateFormatError", PyExc_ValueError).attr("__doc__") =
+      "A state file is missing, truncated, corrupt or of another cloth; the message names the file.";
+  nb::exception<drape::FileWriteError>(m, "FileWriteError", PyExc_OSError).attr("__doc__") =
+      "An output file could not be written (no file is left behind); the message names it and the reason.";
+
+  bind_settings(m);
+  bind_collider(m);
+  bind_spec_and_cloth(m);
+  bind_state(m);
+  bind_options(m);
+  bind_pins(m);
+  bind_reports(m);
+  bind_integrators(m);
+  bind_scene(m);
+  bind_io(m);
+  bind_scene_file_and_renderer(m);
+
+  m.def(
+      "option_names",
+      [] {
+        nb::dict names;
+        names["integrator"] = names_of<drape::IntegratorKind>();
+        names["jacobian"] = names_of<drape::JacobianVariant>();
+        std::vector<std::string> solvers;
+        for (drape::LinearSolverKind k : drape::available_solvers()) solvers.emplace_back(drape::to_string(k));
+        names["solver"] = solvers;
+        names["preconditioner"] = names_of<drape::PreconditionerKind>();
+        names["pin_treatment"] = names_of<drape::PinTreatment>();
+        names["boundary"] = names_of<drape::BoundaryCondition>();
+        names["interpolation"] = names_of<drape::Interpolation>();
+        names["collider"] = names_of<drape::ShapeKind>();
+        return names;
+      },
+      "The names each option accepts (the solvers: those built in).");
+}

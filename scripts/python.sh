@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# The Python package (docs/python.md): installs the Debian packages it needs, makes the venv
+# build/venv (with Debian's numpy and matplotlib), pip-installs drape from this checkout, builds
+# drape-render (the C++ program the bit-identity tests compare against) and runs pytest.
+#   scripts/python.sh [pytest arguments...]        e.g. scripts/python.sh -k bit_identity
+# Build folders: build/py-<wheel tag> (the module, kept, so a second run only relinks what
+# changed) and build/py-ref (drape-render, unless DRAPE_RENDER names one). DRAPE_JOBS sets the
+# parallel compile jobs (default: all cores).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh python
+jobs=${DRAPE_JOBS:-$(nproc)}
+
+venv=build/venv
+if [ ! -x "$venv/bin/python" ]; then
+  # Debian's python3, not whichever python3 is first on PATH; Debian's numpy and matplotlib are reused.
+  /usr/bin/python3 -m venv --system-site-packages "$venv"
+fi
+pip=("$venv/bin/python" -m pip --disable-pip-version-check -q)
+# The build requirements of pyproject.toml, installed once so the build below needs no isolation.
+"${pip[@]}" install "scikit-build-core>=0.10" "nanobind>=2.2" pytest numpy matplotlib
+CMAKE_BUILD_PARALLEL_LEVEL=$jobs "${pip[@]}" install --no-build-isolation ./
+
+# The C++ program the bit-identity tests compare against: DRAPE_RENDER if given (scripts/test.sh
+# passes the one it built), else built here.
+render=${DRAPE_RENDER:-}
+if [ -z "$render" ]; then
+  cmake -S . -B build/py-ref -G Ninja -DCMAKE_BUILD_TYPE=Release -DDRAPE_BUILD_TESTS=OFF -DDRAPE_BUILD_EXAMPLES=OFF \
+    -DDRAPE_BUILD_BENCHMARKS=OFF -DDRAPE_BUILD_VIEWER=ON >/dev/null
+  cmake --build build/py-ref --target drape-render -j "$jobs"
+  render=$PWD/build/py-ref/viewer/drape-render
+fi
+render=$(realpath "$render")
+
+# From build/: the installed package is imported, not the sources in python/drape.
+cd build
+DRAPE_RENDER="$render" DRAPE_REQUIRE_REFERENCE=1 venv/bin/python -m pytest ../python/tests -q -p no:cacheprovider "$@"
