@@ -17,8 +17,11 @@ if [ ! -x "$venv/bin/python" ]; then
   /usr/bin/python3 -m venv --system-site-packages "$venv"
 fi
 pip=("$venv/bin/python" -m pip --disable-pip-version-check -q)
-# The build requirements of pyproject.toml, installed once so the build below needs no isolation.
-"${pip[@]}" install "scikit-build-core>=0.10" "nanobind>=2.2" pytest numpy matplotlib
+# The build requirements of pyproject.toml, installed once so the build below needs no isolation,
+# and the sweep's (drape.sweep, docs/sweeps.md): pyarrow < 20 because later ones need numpy >= 2
+# and the venv uses Debian 12's numpy 1.24.
+"${pip[@]}" install "scikit-build-core>=0.10" "nanobind>=2.2" pytest numpy matplotlib \
+  dask distributed "pyarrow<20" tqdm
 CMAKE_BUILD_PARALLEL_LEVEL=$jobs "${pip[@]}" install --no-build-isolation ./
 
 # The C++ program the bit-identity tests compare against: DRAPE_RENDER if given (scripts/test.sh
