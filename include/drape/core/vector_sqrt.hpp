@@ -61,7 +61,9 @@ inline void sqrt_in_place(Scalar* a, Index n) {
 using Double4 = double __attribute__((vector_size(32)));
 using Float8 = float __attribute__((vector_size(32)));
 
-/// AVX2 version: vsqrtpd / vsqrtps on 256-bit registers.
+/// AVX2 version: vsqrtpd / vsqrtps on 256-bit registers. A twin of sqrt_in_place rather than one
+/// template over the vector type: a 256-bit builtin may only be inlined into a function compiled
+/// for AVX2, so the loop holding it must carry the target attribute itself.
 template <class Scalar>
 __attribute__((target("avx2"))) inline void sqrt_in_place_avx2(Scalar* a, Index n) {
   constexpr Index lanes = 32 / sizeof(Scalar);
