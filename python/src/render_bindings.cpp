@@ -19,6 +19,7 @@
 #include "drape/viewer/collider_mesh.hpp"
 #include "drape/viewer/offscreen_context.hpp"
 #include "drape/viewer/png.hpp"
+#include "scene_setup.hpp"
 
 namespace drape::python {
 
@@ -180,14 +181,8 @@ class Renderer {
       drape::viewer::extend(box, meshes.back());
     }
     if (m_options.follow) {
-      // Frame the cloths and the colliders: the corners of the colliders' box join the nodes.
-      drape::Matrix3X<double> framed(3, positions.cols() + (meshes.empty() ? 0 : 8));
-      framed.leftCols(positions.cols()) = positions;
-      for (int c = 0; c < 8 && !meshes.empty(); ++c)
-        framed.col(positions.cols() + c) =
-            Eigen::Vector3f((c & 1) ? box.max.x() : box.min.x(), (c & 2) ? box.max.y() : box.min.y(),
-                            (c & 4) ? box.max.z() : box.min.z())
-                .cast<double>();
+      drape::Matrix3X<double> framed;
+      render::framed_points(positions, box, !meshes.empty(), framed);
       m_renderer->set_camera(m_follow->update(framed, elapsed));
     }
     const drape::viewer::Camera& cam = m_renderer->camera();

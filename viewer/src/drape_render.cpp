@@ -409,14 +409,7 @@ class Run {
       drape::viewer::Bounds box;
       place_solids(time, m_meshes, box);
       if (m_s.output.camera == drape::render::CameraMode::Follow) {
-        // Frame the cloth and the colliders: the corners of the colliders' box join the nodes.
-        m_framed.resize(3, positions.cols() + (m_meshes.empty() ? 0 : 8));
-        m_framed.leftCols(positions.cols()) = positions;
-        for (int c = 0; c < 8 && !m_meshes.empty(); ++c)
-          m_framed.col(positions.cols() + c) =
-              Eigen::Vector3f((c & 1) ? box.max.x() : box.min.x(), (c & 2) ? box.max.y() : box.min.y(),
-                              (c & 4) ? box.max.z() : box.min.z())
-                  .cast<double>();
+        drape::render::framed_points(positions, box, !m_meshes.empty(), m_framed);
         m_renderer.set_camera(m_follow.update(m_framed, m_state.time - m_previous_sim));
       }
       const drape::viewer::Camera& cam = m_renderer.camera();

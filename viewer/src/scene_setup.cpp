@@ -98,4 +98,15 @@ void PinSchedule::apply(double t, double dt, drape::PinSet<double>& pins) {
   }
 }
 
+void framed_points(const drape::Matrix3X<double>& positions, const drape::viewer::Bounds& solids, bool has_solids,
+                   drape::Matrix3X<double>& out) {
+  out.resize(3, positions.cols() + (has_solids ? 8 : 0));
+  out.leftCols(positions.cols()) = positions;
+  for (int c = 0; c < 8 && has_solids; ++c)
+    out.col(positions.cols() + c) =
+        Eigen::Vector3f((c & 1) ? solids.max.x() : solids.min.x(), (c & 2) ? solids.max.y() : solids.min.y(),
+                        (c & 4) ? solids.max.z() : solids.min.z())
+            .cast<double>();
+}
+
 }  // namespace drape::render

@@ -41,6 +41,11 @@ double run_length(const Settings& s);
 drape::viewer::Bounds framed_box(const Settings& s, const drape::Clothd& cloth, const drape::Stated& start,
                                  std::optional<double> floor_collider_y);
 
+/// What the following camera frames: the nodes, and the 8 corners of the colliders' box when
+/// there are colliders (`has_solids`). `out` is resized to fit.
+void framed_points(const drape::Matrix3X<double>& positions, const drape::viewer::Bounds& solids, bool has_solids,
+                   drape::Matrix3X<double>& out);
+
 /// The [[moving-pins]] tables over time: each node is pinned to its path once the run reaches its
 /// start and released at its release time, between steps (the integrator's PinSet).
 class PinSchedule {
