@@ -91,9 +91,18 @@ class ForceAssembler {
   void evaluate_terms_in_team(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar time) const;
 
   /// Phase 2 for this thread's share of the node blocks: calls `fn(const ForceBlock<Scalar>&)` with
-  /// each block's total forces. No barrier at the end.
+  /// each block's total forces. No barrier at the end. Runs as AVX2 when spring_pass() does, `fn`
+  /// included where the compiler inlines it.
   template <class BlockFn>
-  void node_pass(BlockFn&& fn) const;
+  void node_pass(BlockFn&& fn) const {
+#if DRAPE_AVX2_DISPATCH
+    if (instruction_set() == InstructionSet::Avx2) {
+      node_pass_avx2(fn);
+      return;
+    }
+#endif
+    node_pass_loops(fn);
+  }
 
  private:
   /// spring_pass's loops, compiled once for the baseline instruction set and once for AVX2
@@ -108,11 +117,21 @@ class ForceAssembler {
   }
 #endif
 
+  /// node_pass's loops, inlined into both versions like spring_pass_loops.
+  template <class BlockFn>
+  DRAPE_INLINE_LOOP void node_pass_loops(BlockFn& fn) const;
+#if DRAPE_AVX2_DISPATCH
+  template <class BlockFn>
+  __attribute__((target("avx2"))) void node_pass_avx2(BlockFn& fn) const {
+    node_pass_loops(fn);
+  }
+#endif
+
   /// `out[j] = (start ? start[j] : mass[j] * g) + sum over q < K of (as_first[q][j] - as_second[q][j])`,
   /// summed in q order.
   template <int K>
-  static void add_families(Scalar* out, const Scalar* start, const Scalar* mass, Scalar g,
-                           const Scalar* const* as_first, const Scalar* const* as_second, int count) {
+  static DRAPE_INLINE_LOOP void add_families(Scalar* out, const Scalar* start, const Scalar* mass, Scalar g,
+                                             const Scalar* const* as_first, const Scalar* const* as_second, int count) {
     DRAPE_OMP_SIMD
     for (Index j = 0; j < count; ++j) {
       Scalar t = start ? start[j] : mass[j] * g;
@@ -226,7 +245,7 @@ DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::spring_pass_loops(const NodeView<
 
 template <class Scalar>
 template <class BlockFn>
-void ForceAssembler<Scalar>::node_pass(BlockFn&& fn) const {
+DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::node_pass_loops(BlockFn& fn) const {
   alignas(64) Scalar total[3][block_nodes];
   const Index n = m_cloth->node_count();
   const Scalar* masses = m_cloth->grid().masses().data();
