@@ -11,14 +11,20 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/SparseCore>
 
 #include "drape/config.hpp"
+#include "drape/core/instruction_set.hpp"
 #include "drape/core/team.hpp"
 #include "drape/core/types.hpp"
 #include "drape/linalg/block3.hpp"
+
+#if DRAPE_AVX2_DISPATCH
+#include <immintrin.h>
+#endif
 
 namespace drape {
 
@@ -54,6 +60,9 @@ class BlockSparseMatrix {
   /// multiply() for the calling thread's share of the rows of a team already running (or all rows,
   /// serially); the team waits at the end.
   void multiply_rows_in_team(const Scalar* x, Scalar* y) const;
+  /// `r = b - A x` on the block rows [begin, end), each row summed in pattern order: an AVX2
+  /// version when the CPU has it, with the same bits (instruction_set.hpp).
+  void residual_rows(const Scalar* b, const Scalar* x, Scalar* r, int begin, int end) const;
 
   /// Scalar compressed-column copy of the pattern (allocates; call once), and the map that fills
   /// its values from the blocks: `csc.valuePtr()[e] = values()[map[e]]`.
@@ -125,6 +134,61 @@ void BlockSparseMatrix<Scalar>::multiply_rows_in_team(const Scalar* x, Scalar* y
     y[3 * r + 1] = y1;
     y[3 * r + 2] = y2;
   });
+}
+
+#if DRAPE_AVX2_DISPATCH
+namespace detail {
+/// BlockSparseMatrix::residual_rows() for double with AVX2: a block times x as three columns
+/// (m_0j, m_1j, m_2j, *) times broadcast x_j, summed (c0 x0 + c1 x1) + c2 x2 like block_times();
+/// the fourth lane is never stored.
+__attribute__((target("avx2"))) inline void block_residual_rows_avx2(const int* rb, const int* col, const double* val,
+                                                                     const double* b, const double* x, double* r,
+                                                                     int begin, int end) {
+  for (int row = begin; row < end; ++row) {
+    __m256d y =
+        _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(b + 3 * row)), _mm_load_sd(b + 3 * row + 2), 1);
+    for (int k = rb[row]; k < rb[row + 1]; ++k) {
+      const double* m = val + 9 * k;
+      const double* xc = x + 3 * col[k];
+      const __m256d c0 = _mm256_loadu_pd(m), c1 = _mm256_loadu_pd(m + 3);
+      const __m256d c2 = _mm256_permute4x64_pd(_mm256_loadu_pd(m + 5), 0x39);  // m6 m7 m8 m5: stays in the block
+      const __m256d t = _mm256_add_pd(
+          _mm256_add_pd(_mm256_mul_pd(c0, _mm256_broadcast_sd(xc)), _mm256_mul_pd(c1, _mm256_broadcast_sd(xc + 1))),
+          _mm256_mul_pd(c2, _mm256_broadcast_sd(xc + 2)));
+      y = _mm256_sub_pd(y, t);
+    }
+    _mm_storeu_pd(r + 3 * row, _mm256_castpd256_pd128(y));
+    _mm_store_sd(r + 3 * row + 2, _mm256_extractf128_pd(y, 1));
+  }
+}
+}  // namespace detail
+#endif
+
+template <class Scalar>
+void BlockSparseMatrix<Scalar>::residual_rows(const Scalar* b, const Scalar* x, Scalar* r, int begin, int end) const {
+  const int* rb = m_row_begin.data();
+  const int* col = m_column.data();
+  const Scalar* val = m_values.data();
+#if DRAPE_AVX2_DISPATCH
+  if constexpr (std::is_same_v<Scalar, double>) {
+    if (instruction_set() == InstructionSet::Avx2) {
+      detail::block_residual_rows_avx2(rb, col, val, b, x, r, begin, end);
+      return;
+    }
+  }
+#endif
+  for (int row = begin; row < end; ++row) {
+    Scalar y0 = b[3 * row], y1 = b[3 * row + 1], y2 = b[3 * row + 2];
+    for (int k = rb[row]; k < rb[row + 1]; ++k) {
+      const std::array<Scalar, 3> t = block_times(val + 9 * k, x + 3 * col[k]);
+      y0 -= t[0];
+      y1 -= t[1];
+      y2 -= t[2];
+    }
+    r[3 * row] = y0;
+    r[3 * row + 1] = y1;
+    r[3 * row + 2] = y2;
+  }
 }
 
 template <class Scalar>

@@ -6,28 +6,38 @@
 ///        + \sum_e \begin{bmatrix} C_e & -C_e \\ -C_e & C_e \end{bmatrix}_{(a_e, b_e)}, \f]
 /// so that \f$ A p = m \circ p + B p + \sum_e \pm C_e (p_{a_e} - p_{b_e}) \f$: one 3x3 product per edge
 /// instead of two per edge in block CSR, and about a third of the bytes. Solvers use it for the
-/// product when it is valid and they run on one thread (on a team it costs a barrier per colour).
+/// product when it is valid; on a team it costs a barrier per colour, which the halved work pays
+/// for (bench/analysis.md).
 ///
 /// - Structure (set once): the two block rows of every edge (-1 for an end that is not in the
 ///   system: its unknowns are zero), the edges grouped in colours in which no two edges share a row
 ///   (so threads scatter without races and in a fixed order), the diagonal `m_r` of every row.
 /// - Values (written by whoever assembles the system, e.g. JacobianAssembler): each edge's \f$ C_e \f$
-///   takes stride() scalars of values(): 9 (column-major) in general, 6 when every \f$ C_e \f$ is
-///   symmetric (lower triangle row by row, block3.hpp), a third fewer bytes. Optionally a 3x3 block
+///   takes stride() scalars: 9 (column-major) in general, 6 when every \f$ C_e \f$ is symmetric
+///   (lower triangle row by row, block3.hpp), a third fewer bytes. values() keeps the edges in
+///   groups of `group` = 4, value k of the group's edges side by side (value_index()), so a vector
+///   instruction loads one value of four edges at once. Optionally a 3x3 block
 ///   \f$ B_r \f$ per row (9 values, column-major; room made by enable_row_blocks()), for terms whose
 ///   blocks lie on the diagonal (air drag). The writer then calls set_valid(); anything that
 ///   changes the matrix otherwise must invalidate() it. When every \f$ B_r \f$ is a multiple
 ///   \f$ s_r I \f$ of the identity (linear drag), set_valid() folds them into the diagonal,
 ///   \f$ (m_r + s_r) \f$, and the product is as cheap as without them.
 
+#include <algorithm>
 #include <array>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "drape/core/instruction_set.hpp"
 #include "drape/core/team.hpp"
 #include "drape/core/types.hpp"
 #include "drape/linalg/block3.hpp"
+
+#if DRAPE_AVX2_DISPATCH
+#include <immintrin.h>
+#endif
 
 namespace drape {
 
@@ -41,7 +51,14 @@ class EdgeOperator {
       : m_edge_rows(std::move(edge_rows)),
         m_colour_begin(std::move(colour_begin)),
         m_row_mass(std::move(row_mass)),
-        m_values(9 * (m_edge_rows.size() / 2), Scalar(0)) {}
+        m_values(9 * padded(m_edge_rows.size() / 2), Scalar(0)) {}
+
+  /// Edges per group of values() (see value_index()).
+  static constexpr int group = 4;
+  /// Where value k (< stride) of edge e lies in values(), for `stride` values per edge.
+  static std::size_t value_index(int e, int k, int stride) {
+    return std::size_t(e / group) * std::size_t(group * stride) + std::size_t(group * k + e % group);
+  }
 
   int rows() const { return static_cast<int>(m_row_mass.size()); }
   int edge_count() const { return static_cast<int>(m_edge_rows.size() / 2); }
@@ -55,9 +72,11 @@ class EdgeOperator {
   bool symmetric() const { return m_symmetric; }
   /// Scalars per edge in values(): 6 or 9.
   int stride() const { return m_symmetric ? 6 : 9; }
-  /// Room for 9 scalars per edge; see stride().
+  /// Room for 9 scalars per edge, grouped (value_index()); see stride().
   Scalar* values() { return m_values.data(); }
   const Scalar* values() const { return m_values.data(); }
+  /// Scalars in values().
+  std::size_t value_count() const { return m_values.size(); }
   /// Makes room for the row blocks B_r (zero); they count once set_valid() says so.
   void enable_row_blocks() {
     m_row_blocks.assign(9 * m_row_mass.size(), Scalar(0));
@@ -92,9 +111,17 @@ class EdgeOperator {
   void multiply_in_team(const Scalar* x, Scalar* y) const;
 
  private:
+  static std::size_t padded(std::size_t edges) { return (edges + group - 1) / group * group; }
   /// `y += sum_e +-C_e (x_a - x_b)` over the edges in colour order.
   template <bool Symmetric>
   void add_edge_products(const Scalar* x, Scalar* y) const;
+  /// `y += +-C_e (x_a - x_b)` for the edges [begin, end) one by one.
+  template <bool Symmetric>
+  DRAPE_INLINE_LOOP void add_edge_range(const Scalar* x, Scalar* y, int begin, int end) const;
+#if DRAPE_AVX2_DISPATCH
+  /// add_edge_products for symmetric double blocks with AVX2: four edges of a colour per step.
+  __attribute__((target("avx2"))) void add_symmetric_edge_products_avx2(const double* x, double* y) const;
+#endif
   /// If every B_r is s_r I, writes m_r + s_r to m_row_diagonal and returns true.
   bool fold_isotropic_row_blocks();
 
@@ -142,44 +169,133 @@ void EdgeOperator<Scalar>::multiply_in_team(const Scalar* x, Scalar* y) const {
     add_edge_products<false>(x, y);
 }
 
+template <class Scalar>
+template <bool Symmetric>
+void EdgeOperator<Scalar>::add_edge_products(const Scalar* x, Scalar* y) const {
+#if DRAPE_AVX2_DISPATCH
+  if constexpr (Symmetric && std::is_same_v<Scalar, double>) {
+    if (instruction_set() == InstructionSet::Avx2) {
+      add_symmetric_edge_products_avx2(x, y);
+      return;
+    }
+  }
+#endif
+  const int colours = static_cast<int>(m_colour_begin.size()) - 1;
+  for (int k = 0; k < colours; ++k) {
+    const auto share = even_share(m_colour_begin[k + 1] - m_colour_begin[k], team_rank(), team_size());
+    add_edge_range<Symmetric>(x, y, m_colour_begin[k] + int(share.first), m_colour_begin[k] + int(share.second));
+    team_barrier();
+  }
+}
+
 // One line per row of each 3x3 update: it reads as the math.
 // clang-format off
 template <class Scalar>
 template <bool Symmetric>
-void EdgeOperator<Scalar>::add_edge_products(const Scalar* x, Scalar* y) const {
+DRAPE_INLINE_LOOP void EdgeOperator<Scalar>::add_edge_range(const Scalar* x, Scalar* y, int begin, int end) const {
   // Symmetric C is stored row by row (c00 c10 c11 c20 c21 c22), so the first two rows of C d are
-  // three 2-vector products (SSE2 for double) and the third a 2-vector dot plus one term.
+  // three 2-vector products (SSE2 for double) and the third a 2-vector dot plus one term; each row
+  // sums (c_i0 d0 + c_i1 d1) + c_i2 d2, like block3.hpp and the AVX2 version.
   using Vec2 = Eigen::Matrix<Scalar, 2, 1>;
   using Vec2Map = Eigen::Map<Vec2>;
   using ConstVec2Map = Eigen::Map<const Vec2>;
+  constexpr int stride = Symmetric ? 6 : 9;
   const int* er = m_edge_rows.data();
-  const Scalar* c = m_values.data();
-  const int colours = static_cast<int>(m_colour_begin.size()) - 1;
-  for (int k = 0; k < colours; ++k) {
-    team_for(m_colour_begin[k], m_colour_begin[k + 1], [&](int e) {
-      const int ra = er[2 * e], rb = er[2 * e + 1];
-      if constexpr (Symmetric) {
-        Vec2 d01 = Vec2::Zero();
-        Scalar d2 = 0;
-        if (ra >= 0) { d01 = ConstVec2Map(x + 3 * ra); d2 = x[3 * ra + 2]; }
-        if (rb >= 0) { d01 -= ConstVec2Map(x + 3 * rb); d2 -= x[3 * rb + 2]; }
-        const Scalar* m = c + 6 * e;
-        const ConstVec2Map row2(m + 3);  // (c20, c21) = (c02, c12)
-        const Vec2 t01 = ConstVec2Map(m) * d01[0] + ConstVec2Map(m + 1) * d01[1] + row2 * d2;
-        const Scalar t2 = row2.dot(d01) + m[5] * d2;
-        if (ra >= 0) { Vec2Map(y + 3 * ra) += t01; y[3 * ra + 2] += t2; }
-        if (rb >= 0) { Vec2Map(y + 3 * rb) -= t01; y[3 * rb + 2] -= t2; }
-      } else {
-        Scalar d[3] = {0, 0, 0};
-        if (ra >= 0) { d[0] = x[3 * ra]; d[1] = x[3 * ra + 1]; d[2] = x[3 * ra + 2]; }
-        if (rb >= 0) { d[0] -= x[3 * rb]; d[1] -= x[3 * rb + 1]; d[2] -= x[3 * rb + 2]; }
-        const std::array<Scalar, 3> t = block_times(c + 9 * e, d);
-        if (ra >= 0) { y[3 * ra] += t[0]; y[3 * ra + 1] += t[1]; y[3 * ra + 2] += t[2]; }
-        if (rb >= 0) { y[3 * rb] -= t[0]; y[3 * rb + 1] -= t[1]; y[3 * rb + 2] -= t[2]; }
-      }
-    });
+  for (int e = begin; e < end; ++e) {
+    const int ra = er[2 * e], rb = er[2 * e + 1];
+    const Scalar* c = m_values.data() + value_index(e, 0, stride);
+    Scalar m[stride];
+    for (int k = 0; k < stride; ++k) m[k] = c[group * k];
+    if constexpr (Symmetric) {
+      Vec2 d01 = Vec2::Zero();
+      Scalar d2 = 0;
+      if (ra >= 0) { d01 = ConstVec2Map(x + 3 * ra); d2 = x[3 * ra + 2]; }
+      if (rb >= 0) { d01 -= ConstVec2Map(x + 3 * rb); d2 -= x[3 * rb + 2]; }
+      const ConstVec2Map row2(m + 3);  // (c20, c21) = (c02, c12)
+      const Vec2 t01 = ConstVec2Map(m) * d01[0] + ConstVec2Map(m + 1) * d01[1] + row2 * d2;
+      const Scalar t2 = row2.dot(d01) + m[5] * d2;
+      if (ra >= 0) { Vec2Map(y + 3 * ra) += t01; y[3 * ra + 2] += t2; }
+      if (rb >= 0) { Vec2Map(y + 3 * rb) -= t01; y[3 * rb + 2] -= t2; }
+    } else {
+      Scalar d[3] = {0, 0, 0};
+      if (ra >= 0) { d[0] = x[3 * ra]; d[1] = x[3 * ra + 1]; d[2] = x[3 * ra + 2]; }
+      if (rb >= 0) { d[0] -= x[3 * rb]; d[1] -= x[3 * rb + 1]; d[2] -= x[3 * rb + 2]; }
+      const std::array<Scalar, 3> t = block_times(m, d);
+      if (ra >= 0) { y[3 * ra] += t[0]; y[3 * ra + 1] += t[1]; y[3 * ra + 2] += t[2]; }
+      if (rb >= 0) { y[3 * rb] -= t[0]; y[3 * rb + 1] -= t[1]; y[3 * rb + 2] -= t[2]; }
+    }
   }
 }
 // clang-format on
+
+#if DRAPE_AVX2_DISPATCH
+namespace detail {
+/// Row r of x as (x0, x1, x2, 0); zero for an end outside the system (r < 0).
+__attribute__((target("avx2"), always_inline)) inline __m256d load_row_avx2(const double* x, int r) {
+  return r >= 0 ? _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(x + 3 * r)), _mm_load_sd(x + 3 * r + 2), 1)
+                : _mm256_setzero_pd();
+}
+/// y_r += (t0, t1), t2 (`Add`) or y_r -= them; nothing for r < 0.
+template <bool Add>
+__attribute__((target("avx2"), always_inline)) inline void update_row_avx2(double* y, int r, __m128d t01, __m128d t2) {
+  if (r < 0) return;
+  double* yr = y + 3 * r;
+  const __m128d y01 = _mm_loadu_pd(yr), y2 = _mm_load_sd(yr + 2);
+  _mm_storeu_pd(yr, Add ? _mm_add_pd(y01, t01) : _mm_sub_pd(y01, t01));
+  _mm_store_sd(yr + 2, Add ? _mm_add_sd(y2, t2) : _mm_sub_sd(y2, t2));
+}
+}  // namespace detail
+
+// The vector version does the scalar one's operations in the same order (no fused multiply-add),
+// so both give the same bits.
+template <class Scalar>
+__attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_products_avx2(const double* x,
+                                                                                            double* y) const {
+  const int* er = m_edge_rows.data();
+  using detail::load_row_avx2;
+  using detail::update_row_avx2;
+  const int colours = static_cast<int>(m_colour_begin.size()) - 1;
+  for (int k = 0; k < colours; ++k) {
+    const auto share = even_share(m_colour_begin[k + 1] - m_colour_begin[k], team_rank(), team_size());
+    const int begin = m_colour_begin[k] + int(share.first), end = m_colour_begin[k] + int(share.second);
+    int e = std::min(end, (begin + group - 1) / group * group);  // the first whole group
+    add_edge_range<true>(x, y, begin, e);
+    for (; e + group <= end; e += group) {
+      const int* rows = er + 2 * e;
+      // d = x_a - x_b of the four edges, then transposed to one vector per component.
+      const __m256d d0 = _mm256_sub_pd(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1]));
+      const __m256d d1 = _mm256_sub_pd(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3]));
+      const __m256d d2 = _mm256_sub_pd(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5]));
+      const __m256d d3 = _mm256_sub_pd(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7]));
+      const __m256d lo01 = _mm256_unpacklo_pd(d0, d1), hi01 = _mm256_unpackhi_pd(d0, d1);
+      const __m256d lo23 = _mm256_unpacklo_pd(d2, d3), hi23 = _mm256_unpackhi_pd(d2, d3);
+      const __m256d dx = _mm256_permute2f128_pd(lo01, lo23, 0x20);
+      const __m256d dy = _mm256_permute2f128_pd(hi01, hi23, 0x20);
+      const __m256d dz = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+      const double* c = m_values.data() + value_index(e, 0, 6);
+      const __m256d c0 = _mm256_load_pd(c), c1 = _mm256_load_pd(c + 4), c2 = _mm256_load_pd(c + 8);
+      const __m256d c3 = _mm256_load_pd(c + 12), c4 = _mm256_load_pd(c + 16), c5 = _mm256_load_pd(c + 20);
+      const __m256d tx =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c0, dx), _mm256_mul_pd(c1, dy)), _mm256_mul_pd(c3, dz));
+      const __m256d ty =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c1, dx), _mm256_mul_pd(c2, dy)), _mm256_mul_pd(c4, dz));
+      const __m256d tz =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c3, dx), _mm256_mul_pd(c4, dy)), _mm256_mul_pd(c5, dz));
+      // Back to (tx, ty) pairs and tz per edge.
+      const __m256d txy02 = _mm256_unpacklo_pd(tx, ty), txy13 = _mm256_unpackhi_pd(tx, ty);
+      const __m128d tz01 = _mm256_castpd256_pd128(tz), tz23 = _mm256_extractf128_pd(tz, 1);
+      const __m128d pair[4] = {_mm256_castpd256_pd128(txy02), _mm256_castpd256_pd128(txy13),
+                               _mm256_extractf128_pd(txy02, 1), _mm256_extractf128_pd(txy13, 1)};
+      const __m128d z[4] = {tz01, _mm_unpackhi_pd(tz01, tz01), tz23, _mm_unpackhi_pd(tz23, tz23)};
+      for (int i = 0; i < group; ++i) {
+        update_row_avx2<true>(y, rows[2 * i], pair[i], z[i]);
+        update_row_avx2<false>(y, rows[2 * i + 1], pair[i], z[i]);
+      }
+    }
+    add_edge_range<true>(x, y, e, end);
+    team_barrier();
+  }
+}
+#endif
 
 }  // namespace drape

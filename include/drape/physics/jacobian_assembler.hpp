@@ -428,7 +428,7 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
       const Scalar p = dt * kd[s] + dt2 * l.k_uu;
       const Scalar q = dt2 * l.k_i;
       const Scalar u0 = l.u[0], u1 = l.u[1], u2 = l.u[2];
-      Scalar* c = blocks + stride * s;
+      Scalar c[stride];
       Scalar g_u = dt * l.phi + dt2 * l.k_uu * l.wu;
       if constexpr (Symmetric) {
         // Lower triangle, row by row: (0,0) (1,0) (1,1) (2,0) (2,1) (2,2).
@@ -450,6 +450,7 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
           c[4 * j] += q;
         }
       }
+      for (int k = 0; k < stride; ++k) blocks[EdgeOperator<Scalar>::value_index(s, k, stride)] = c[k];
       Scalar* g = g_all + 3 * s;
       g[0] = g_u * u0 + q * l.w[0];
       g[1] = g_u * u1 + q * l.w[1];
@@ -479,7 +480,8 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
       Scalar b0 = weight[0], b1 = weight[1], b2 = weight[2];
       for (int k = incidence_begin[row]; k < incidence_begin[row + 1]; ++k) {
         const Incidence& in = incidence[k];
-        const Scalar* c = blocks + stride * in.spring;
+        Scalar c[stride];
+        for (int q = 0; q < stride; ++q) c[q] = blocks[EdgeOperator<Scalar>::value_index(in.spring, q, stride)];
         for (int q = 0; q < stride; ++q) diag[q] += c[q];
         if (in.block >= 0) {
           Scalar full[9];

@@ -203,30 +203,22 @@ bool MultigridPreconditioner<Scalar>::update_in_team(const LinearSystem<Scalar>&
 template <class Scalar>
 void MultigridPreconditioner<Scalar>::residual(int l, const Scalar* b, const Scalar* x, Scalar* r, bool team) const {
   const BlockSparseMatrix<Scalar>& m = matrix(l);
-  // On one thread the finest level's edge form is the cheaper product (one 3x3 block per edge
-  // instead of two, linalg/edge_operator.hpp); with a team it would cost a barrier per colour, so
-  // the team uses block rows. (Never inside a team_single(): the edge product shares its loops
-  // with the team.)
-  if (l == 0 && !team && m_fine == &m_system->matrix && m_system->edges.valid() && team_size() == 1) {
+  // The finest level's edge form is the cheaper product (one 3x3 block per edge instead of two,
+  // linalg/edge_operator.hpp), also on a team, where it costs a barrier per colour (measured:
+  // bench/analysis.md). Not when one thread of a team runs the level: the edge product shares
+  // its loops with the team.
+  if (l == 0 && (team || team_size() == 1) && m_fine == &m_system->matrix && m_system->edges.valid()) {
     m_system->edges.multiply_in_team(x, r);
-    for (int i = 0; i < 3 * m.block_rows(); ++i) r[i] = b[i] - r[i];
+    team_for_if(team, 3 * m.block_rows(), [&](int i) { r[i] = b[i] - r[i]; });
     return;
   }
-  const int* rb = m.row_begin().data();
-  const int* col = m.column().data();
-  const Scalar* val = m.values();
-  team_for_if(team, m.block_rows(), [&](int row) {
-    Scalar y0 = b[3 * row], y1 = b[3 * row + 1], y2 = b[3 * row + 2];
-    for (int k = rb[row]; k < rb[row + 1]; ++k) {
-      const std::array<Scalar, 3> t = block_times(val + 9 * k, x + 3 * col[k]);
-      y0 -= t[0];
-      y1 -= t[1];
-      y2 -= t[2];
-    }
-    r[3 * row] = y0;
-    r[3 * row + 1] = y1;
-    r[3 * row + 2] = y2;
-  });
+  if (team) {
+    const auto share = even_share(m.block_rows(), team_rank(), team_size());
+    m.residual_rows(b, x, r, int(share.first), int(share.second));
+    team_barrier();
+  } else {
+    m.residual_rows(b, x, r, 0, m.block_rows());
+  }
 }
 
 template <class Scalar>
