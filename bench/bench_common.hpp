@@ -17,6 +17,7 @@
 #include <benchmark/benchmark.h>
 
 #include "drape/core/cloth.hpp"
+#include "drape/core/instruction_set.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/step_status.hpp"
 
@@ -77,6 +78,16 @@ inline const Scene& scene(int n) {
   sc.max_speed = sc.warm.velocities.colwise().norm().maxCoeff();
   return cache.emplace(n, std::move(sc)).first->second;
 }
+
+/// Switches drape's AVX2 loops off while it lives (`impl=drape-sse2` rows: the same step without
+/// the run-time dispatch, core/instruction_set.hpp).
+struct BaselineInstructionSet {
+  drape::InstructionSet saved = drape::instruction_set();
+  BaselineInstructionSet() { drape::use_instruction_set(drape::InstructionSet::Baseline); }
+  ~BaselineInstructionSet() { drape::use_instruction_set(saved); }
+  BaselineInstructionSet(const BaselineInstructionSet&) = delete;
+  BaselineInstructionSet& operator=(const BaselineInstructionSet&) = delete;
+};
 
 /// Names are `family/key=value/.../n:N/threads:T`; scripts/bench_report.py parses them.
 /// Minimum timed seconds per repetition: `quick_min_time` for most families; the families the

@@ -40,14 +40,6 @@ void force_assembly_baseline(benchmark::State& st) {
 }
 
 /// Runs the baseline (SSE2) versions of the hot loops while it lives.
-struct BaselineInstructionSet {
-  drape::InstructionSet saved = drape::instruction_set();
-  BaselineInstructionSet() { drape::use_instruction_set(drape::InstructionSet::Baseline); }
-  ~BaselineInstructionSet() { drape::use_instruction_set(saved); }
-  BaselineInstructionSet(const BaselineInstructionSet&) = delete;
-  BaselineInstructionSet& operator=(const BaselineInstructionSet&) = delete;
-};
-
 void rk2_step_drape(benchmark::State& st) {
   const Scene& sc = scene(int(st.range(0)));
   drape::Rk2<double> rk2(*sc.cloth, {drape::IntegratorOptions{}.dt, int(st.range(1))});  // the default dt
