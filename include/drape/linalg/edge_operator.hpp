@@ -275,9 +275,10 @@ __attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_pr
       const __m256d dx = _mm256_permute2f128_pd(lo01, lo23, 0x20);
       const __m256d dy = _mm256_permute2f128_pd(hi01, hi23, 0x20);
       const __m256d dz = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+      // Unaligned loads: a std::vector is only 16-byte aligned (an aligned load would fault).
       const double* c = m_values.data() + value_index(e, 0, 6);
-      const __m256d c0 = _mm256_load_pd(c), c1 = _mm256_load_pd(c + 4), c2 = _mm256_load_pd(c + 8);
-      const __m256d c3 = _mm256_load_pd(c + 12), c4 = _mm256_load_pd(c + 16), c5 = _mm256_load_pd(c + 20);
+      const __m256d c0 = _mm256_loadu_pd(c), c1 = _mm256_loadu_pd(c + 4), c2 = _mm256_loadu_pd(c + 8);
+      const __m256d c3 = _mm256_loadu_pd(c + 12), c4 = _mm256_loadu_pd(c + 16), c5 = _mm256_loadu_pd(c + 20);
       const __m256d tx =
           _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c0, dx), _mm256_mul_pd(c1, dy)), _mm256_mul_pd(c3, dz));
       const __m256d ty =
