@@ -151,6 +151,9 @@ TEST_CASE("the edge product gives the same bits with AVX2 and without, and A x",
   bool unaligned = false;
   for (int c : system.edges.colour_begin()) unaligned = unaligned || c % EdgeOperator<double>::group != 0;
   REQUIRE(unaligned);
+  // Groups whose rows are consecutive (springs along j) load whole vectors, the others gather.
+  REQUIRE(system.edges.contiguous_groups() > 0);
+  REQUIRE(system.edges.contiguous_groups() < system.edges.edge_count() / EdgeOperator<double>::group);
   const VectorX<double> p = VectorX<double>::Random(system.size());
   const VectorX<double> dense = system.matrix.to_dense() * p;
   InstructionSetScope scope;

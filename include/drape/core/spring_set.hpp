@@ -113,7 +113,9 @@ SpringSet<Scalar>::SpringSet(const Grid<Scalar>& grid, const SpringCoefficients<
 
   // A spring family is a fixed offset (di, dj) from its first node; within a family, springs whose
   // key (i or j, divided by `stride`) has the same parity share no node. Each (family, parity) is
-  // one colour.
+  // one colour. Families that step along j (dj > 0) take j as key: a colour's springs then have
+  // consecutive first and second nodes along each line, which the edge product loads as whole
+  // groups (linalg/edge_operator.hpp); only the families along i (dj = 0) need i.
   struct Family {
     int di, dj, i0;  // second node = (i + di, j + dj); first node i starts at i0
     bool key_is_i;   // colour key taken from i (else j)
@@ -121,8 +123,8 @@ SpringSet<Scalar>::SpringSet(const Grid<Scalar>& grid, const SpringCoefficients<
     C category;
   };
   const Family families[] = {
-      {1, 0, 0, true, 1, C::Structural}, {0, 1, 0, false, 1, C::Structural}, {1, 1, 0, true, 1, C::Shear},
-      {-1, 1, 1, true, 1, C::Shear},     {2, 0, 0, true, 2, C::Bend},        {0, 2, 0, false, 2, C::Bend},
+      {1, 0, 0, true, 1, C::Structural}, {0, 1, 0, false, 1, C::Structural}, {1, 1, 0, false, 1, C::Shear},
+      {-1, 1, 1, false, 1, C::Shear},    {2, 0, 0, true, 2, C::Bend},        {0, 2, 0, false, 2, C::Bend},
   };
   const std::size_t expected =
       static_cast<std::size_t>(2 * (nx - 1) * ny + 2 * nx * (ny - 1) + 2 * (nx - 1) * (ny - 1)) +

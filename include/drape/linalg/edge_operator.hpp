@@ -12,6 +12,9 @@
 /// - Structure (set once): the two block rows of every edge (-1 for an end that is not in the
 ///   system: its unknowns are zero), the edges grouped in colours in which no two edges share a row
 ///   (so threads scatter without races and in a fixed order), the diagonal `m_r` of every row.
+///   A group of four edges whose first rows are consecutive, and so are their second rows, is
+///   *contiguous* (contiguous_groups()): the AVX2 product loads and stores its rows as whole
+///   vectors instead of row by row (a cloth's springs along j come this way, core/spring_set.hpp).
 /// - Values (written by whoever assembles the system, e.g. JacobianAssembler): each edge's \f$ C_e \f$
 ///   takes stride() scalars: 9 (column-major) in general, 6 when every \f$ C_e \f$ is symmetric
 ///   (lower triangle row by row, block3.hpp), a third fewer bytes. values() keeps the edges in
@@ -51,7 +54,8 @@ class EdgeOperator {
       : m_edge_rows(std::move(edge_rows)),
         m_colour_begin(std::move(colour_begin)),
         m_row_mass(std::move(row_mass)),
-        m_values(9 * padded(m_edge_rows.size() / 2), Scalar(0)) {}
+        m_values(9 * padded(m_edge_rows.size() / 2), Scalar(0)),
+        m_contiguous(find_contiguous_groups(m_edge_rows)) {}
 
   /// Edges per group of values() (see value_index()).
   static constexpr int group = 4;
@@ -65,6 +69,8 @@ class EdgeOperator {
   const std::vector<int>& edge_rows() const { return m_edge_rows; }
   const std::vector<int>& colour_begin() const { return m_colour_begin; }
   const std::vector<Scalar>& row_mass() const { return m_row_mass; }
+  /// Groups of four edges (edges [4g, 4g + 4)) whose rows are consecutive (see the file comment).
+  int contiguous_groups() const { return static_cast<int>(std::count(m_contiguous.begin(), m_contiguous.end(), 1)); }
 
   /// True if the values describe the current matrix (see the file comment).
   bool valid() const { return m_valid; }
@@ -112,6 +118,8 @@ class EdgeOperator {
 
  private:
   static std::size_t padded(std::size_t edges) { return (edges + group - 1) / group * group; }
+  /// Per group of four edges: 1 if both ends of its edges are consecutive rows of the system.
+  static std::vector<char> find_contiguous_groups(const std::vector<int>& edge_rows);
   /// `y += sum_e +-C_e (x_a - x_b)` over the edges in colour order.
   template <bool Symmetric>
   void add_edge_products(const Scalar* x, Scalar* y) const;
@@ -127,6 +135,7 @@ class EdgeOperator {
 
   std::vector<int> m_edge_rows, m_colour_begin;
   std::vector<Scalar> m_row_mass, m_values, m_row_blocks, m_row_diagonal;
+  std::vector<char> m_contiguous;
   bool m_valid = false;
   bool m_symmetric = false;
   bool m_use_row_blocks = false;
@@ -134,6 +143,20 @@ class EdgeOperator {
 };
 
 // ---------------------------------------------------------------------------------------------
+
+template <class Scalar>
+std::vector<char> EdgeOperator<Scalar>::find_contiguous_groups(const std::vector<int>& edge_rows) {
+  const int edges = static_cast<int>(edge_rows.size() / 2);
+  std::vector<char> contiguous(static_cast<std::size_t>(edges / group), 0);
+  for (int g = 0; g < edges / group; ++g) {
+    const int* rows = edge_rows.data() + 2 * group * g;
+    bool consecutive = rows[0] >= 0 && rows[1] >= 0;
+    for (int k = 1; k < group; ++k)
+      consecutive = consecutive && rows[2 * k] == rows[0] + k && rows[2 * k + 1] == rows[1] + k;
+    contiguous[static_cast<std::size_t>(g)] = consecutive ? 1 : 0;
+  }
+  return contiguous;
+}
 
 template <class Scalar>
 bool EdgeOperator<Scalar>::fold_isotropic_row_blocks() {
@@ -247,6 +270,39 @@ __attribute__((target("avx2"), always_inline)) inline void update_row_avx2(doubl
   _mm_storeu_pd(yr, Add ? _mm_add_pd(y01, t01) : _mm_sub_pd(y01, t01));
   _mm_store_sd(yr + 2, Add ? _mm_add_sd(y2, t2) : _mm_sub_sd(y2, t2));
 }
+/// x_a - x_b of four edges whose ends are the rows a..a+3 and b..b+3, one vector per component:
+/// three whole loads per end instead of four gathers, and a 4 x 3 transpose.
+__attribute__((target("avx2"), always_inline)) inline void load_consecutive_differences_avx2(const double* x, int a,
+                                                                                             int b, __m256d& dx,
+                                                                                             __m256d& dy, __m256d& dz) {
+  const double *xa = x + 3 * a, *xb = x + 3 * b;
+  // d0 = (x0 y0 z0 x1), d1 = (y1 z1 x2 y2), d2 = (z2 x3 y3 z3).
+  const __m256d d0 = _mm256_sub_pd(_mm256_loadu_pd(xa), _mm256_loadu_pd(xb));
+  const __m256d d1 = _mm256_sub_pd(_mm256_loadu_pd(xa + 4), _mm256_loadu_pd(xb + 4));
+  const __m256d d2 = _mm256_sub_pd(_mm256_loadu_pd(xa + 8), _mm256_loadu_pd(xb + 8));
+  // Blends give (x0 x3 x2 x1), (y1 y0 y3 y2), (z2 z1 z0 z3); one permutation each puts them in order.
+  dx = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(d0, d1, 0b0100), d2, 0b0010), 0x6C);
+  dy = _mm256_permute_pd(_mm256_blend_pd(_mm256_blend_pd(d0, d1, 0b1001), d2, 0b0100), 0b0101);
+  dz = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(d0, d1, 0b0010), d2, 0b1001), 0xC6);
+}
+/// y_{a+i} += t_i and y_{b+i} -= t_i for i < 4, t given by components: the inverse of
+/// load_consecutive_differences_avx2's transpose (its permutations are their own inverses).
+__attribute__((target("avx2"), always_inline)) inline void update_consecutive_rows_avx2(double* y, int a, int b,
+                                                                                        __m256d tx, __m256d ty,
+                                                                                        __m256d tz) {
+  const __m256d px = _mm256_permute4x64_pd(tx, 0x6C), py = _mm256_permute_pd(ty, 0b0101);
+  const __m256d pz = _mm256_permute4x64_pd(tz, 0xC6);
+  const __m256d t0 = _mm256_blend_pd(_mm256_blend_pd(px, py, 0b0010), pz, 0b0100);  // (tx0 ty0 tz0 tx1)
+  const __m256d t1 = _mm256_blend_pd(_mm256_blend_pd(py, pz, 0b0010), px, 0b0100);  // (ty1 tz1 tx2 ty2)
+  const __m256d t2 = _mm256_blend_pd(_mm256_blend_pd(pz, px, 0b0010), py, 0b0100);  // (tz2 tx3 ty3 tz3)
+  double *ya = y + 3 * a, *yb = y + 3 * b;
+  _mm256_storeu_pd(ya, _mm256_add_pd(_mm256_loadu_pd(ya), t0));
+  _mm256_storeu_pd(ya + 4, _mm256_add_pd(_mm256_loadu_pd(ya + 4), t1));
+  _mm256_storeu_pd(ya + 8, _mm256_add_pd(_mm256_loadu_pd(ya + 8), t2));
+  _mm256_storeu_pd(yb, _mm256_sub_pd(_mm256_loadu_pd(yb), t0));
+  _mm256_storeu_pd(yb + 4, _mm256_sub_pd(_mm256_loadu_pd(yb + 4), t1));
+  _mm256_storeu_pd(yb + 8, _mm256_sub_pd(_mm256_loadu_pd(yb + 8), t2));
+}
 }  // namespace detail
 
 // The vector version does the scalar one's operations in the same order (no fused multiply-add),
@@ -257,6 +313,7 @@ __attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_pr
   const int* er = m_edge_rows.data();
   using detail::load_row_avx2;
   using detail::update_row_avx2;
+  const char* contiguous = m_contiguous.data();
   const int colours = static_cast<int>(m_colour_begin.size()) - 1;
   for (int k = 0; k < colours; ++k) {
     const auto share = even_share(m_colour_begin[k + 1] - m_colour_begin[k], team_rank(), team_size());
@@ -265,16 +322,22 @@ __attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_pr
     add_edge_range<true>(x, y, begin, e);
     for (; e + group <= end; e += group) {
       const int* rows = er + 2 * e;
-      // d = x_a - x_b of the four edges, then transposed to one vector per component.
-      const __m256d d0 = _mm256_sub_pd(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1]));
-      const __m256d d1 = _mm256_sub_pd(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3]));
-      const __m256d d2 = _mm256_sub_pd(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5]));
-      const __m256d d3 = _mm256_sub_pd(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7]));
-      const __m256d lo01 = _mm256_unpacklo_pd(d0, d1), hi01 = _mm256_unpackhi_pd(d0, d1);
-      const __m256d lo23 = _mm256_unpacklo_pd(d2, d3), hi23 = _mm256_unpackhi_pd(d2, d3);
-      const __m256d dx = _mm256_permute2f128_pd(lo01, lo23, 0x20);
-      const __m256d dy = _mm256_permute2f128_pd(hi01, hi23, 0x20);
-      const __m256d dz = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+      const bool consecutive = contiguous[e / group] != 0;
+      // d = x_a - x_b of the four edges, one vector per component.
+      __m256d dx, dy, dz;
+      if (consecutive) {
+        detail::load_consecutive_differences_avx2(x, rows[0], rows[1], dx, dy, dz);
+      } else {  // gathered row by row, then transposed
+        const __m256d d0 = _mm256_sub_pd(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1]));
+        const __m256d d1 = _mm256_sub_pd(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3]));
+        const __m256d d2 = _mm256_sub_pd(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5]));
+        const __m256d d3 = _mm256_sub_pd(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7]));
+        const __m256d lo01 = _mm256_unpacklo_pd(d0, d1), hi01 = _mm256_unpackhi_pd(d0, d1);
+        const __m256d lo23 = _mm256_unpacklo_pd(d2, d3), hi23 = _mm256_unpackhi_pd(d2, d3);
+        dx = _mm256_permute2f128_pd(lo01, lo23, 0x20);
+        dy = _mm256_permute2f128_pd(hi01, hi23, 0x20);
+        dz = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+      }
       // Unaligned loads: a std::vector is only 16-byte aligned (an aligned load would fault).
       const double* c = m_values.data() + value_index(e, 0, 6);
       const __m256d c0 = _mm256_loadu_pd(c), c1 = _mm256_loadu_pd(c + 4), c2 = _mm256_loadu_pd(c + 8);
@@ -285,6 +348,10 @@ __attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_pr
           _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c1, dx), _mm256_mul_pd(c2, dy)), _mm256_mul_pd(c4, dz));
       const __m256d tz =
           _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c3, dx), _mm256_mul_pd(c4, dy)), _mm256_mul_pd(c5, dz));
+      if (consecutive) {
+        detail::update_consecutive_rows_avx2(y, rows[0], rows[1], tx, ty, tz);
+        continue;
+      }
       // Back to (tx, ty) pairs and tz per edge.
       const __m256d txy02 = _mm256_unpacklo_pd(tx, ty), txy13 = _mm256_unpackhi_pd(tx, ty);
       const __m128d tz01 = _mm256_castpd256_pd128(tz), tz23 = _mm256_extractf128_pd(tz, 1);
