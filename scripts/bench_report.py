@@ -588,7 +588,7 @@ def main():
     if machine.get("loadavg_before"):
         share = machine.get("other_processes_cpu_share")
         out.append(f"| load | load average before `{machine['loadavg_before']}`, after `{machine['loadavg_after']}`"
-                   + (f"; other processes used {max(share, 0) * 100:.0f}% of the CPU time during the run" if share is not None else "")
+                   + (f"; other processes used {abs(max(share, 0)) * 100:.0f}% of the CPU time during the run" if share is not None else "")
                    + " |")
     out.append("")
 
@@ -615,7 +615,7 @@ def main():
     share = machine.get("other_processes_cpu_share")
     load_before = float(machine.get("loadavg_before", "0").split()[0])
     if (share is not None and share > 0.1) or load_before >= 1.0:
-        used = f"other processes used {max(share, 0) * 100:.0f}% of the machine's CPU time during this run, " if share is not None else ""
+        used = f"other processes used {abs(max(share, 0)) * 100:.0f}% of the machine's CPU time during this run, " if share is not None else ""
         out += [f"**Warning: the machine was busy: {used}load average {load_before:.1f} before the run and "
                 + " / ".join(machine.get("loadavg_after", "? ? ?").split()[:3]) + " (1 / 5 / 15 min) after it. Wall times, "
                 "and above all two-thread times, are inflated by the load: a thread of drape that is descheduled "
