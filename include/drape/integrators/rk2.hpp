@@ -8,10 +8,11 @@
 /// Contacts with colliders are resolved on the step's result (physics/contact_handler.hpp).
 /// Conditionally stable: see drape's parameters.md for the largest stable dt.
 ///
-/// One step is one parallel region with four barriers: spring pass at q, node pass fused with the
-/// midpoint update, spring pass at the midpoint, node pass fused with the final update and the
-/// finiteness check (force_assembler.hpp). Bitwise identical for any thread count. Force terms are
-/// evaluated at t and at the midpoint t + dt/2, on one thread (a fifth barrier, only with terms).
+/// One step is one parallel region with five barriers: q copied by component, spring pass at q,
+/// node pass fused with the midpoint update, spring pass at the midpoint, node pass fused with the
+/// final update and the finiteness check (force_assembler.hpp). Bitwise identical for any thread
+/// count. Force terms are evaluated at t and at the midpoint t + dt/2, on one thread (a sixth
+/// barrier, only with terms).
 
 #include <algorithm>
 #include <atomic>
@@ -72,7 +73,8 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
   const Index n = m_inverse_mass.size();
   const Scalar half = Scalar(0.5) * dt;
   const Scalar* x = state.positions.data();
-  const Scalar* v = state.velocities.data();
+  // q by component (copy_input), read by the node passes too.
+  const NodeView<Scalar> xs = m_forces.input_positions(), vs = m_forces.input_velocities();
   Scalar* x_new = m_x_new.data();
   Scalar* v_new = m_v_new.data();
   Scalar* const x_mid[3] = {&m_midpoint[0], &m_midpoint[std::size_t(n)], &m_midpoint[2 * std::size_t(n)]};
@@ -93,19 +95,23 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
 
   run_in_team(m_forces.threads(), [&] {
     // Midpoint: q_mid = q + dt/2 F(q).
-    m_forces.spring_pass(node_view(state.positions), node_view(state.velocities));
+    m_forces.copy_input(state.positions, state.velocities);
+    team_barrier();
+    m_forces.spring_pass(xs, vs);
     team_barrier();
     m_forces.node_pass([&](const ForceBlock<Scalar>& block) {
       const Index i0 = block.begin;
       for (int k = 0; k < 3; ++k) {
         const Scalar* f = block.f[k];
+        const Scalar* xk = xs.p[k] + i0;
+        const Scalar* vk = vs.p[k] + i0;
+        const Scalar* w = inverse_mass + i0;
         Scalar* xm = x_mid[k] + i0;
         Scalar* vm = v_mid[k] + i0;
         DRAPE_OMP_SIMD
         for (int j = 0; j < block.count; ++j) {
-          const Index i = i0 + j;
-          xm[j] = x[3 * i + k] + half * v[3 * i + k];
-          vm[j] = v[3 * i + k] + half * (f[j] * inverse_mass[i]);
+          xm[j] = xk[j] + half * vk[j];
+          vm[j] = vk[j] + half * (f[j] * w[j]);
         }
       }
       // Pinned nodes follow their paths whatever velocity the caller left on them.
@@ -130,24 +136,37 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
       m_forces.evaluate_terms_in_team(m_x_mid, m_v_mid, state.time + half);
     }
     // Full step with the midpoint slope.
-    m_forces.spring_pass(NodeView<Scalar, 1>{{x_mid[0], x_mid[1], x_mid[2]}},
-                         NodeView<Scalar, 1>{{v_mid[0], v_mid[1], v_mid[2]}});
+    m_forces.spring_pass(NodeView<Scalar>{{x_mid[0], x_mid[1], x_mid[2]}},
+                         NodeView<Scalar>{{v_mid[0], v_mid[1], v_mid[2]}});
     team_barrier();
     // NaN if any new value is not finite (0 * inf = NaN), else 0.
     Scalar probe = 0;
     m_forces.node_pass([&](const ForceBlock<Scalar>& block) {
       const Index i0 = block.begin;
-      for (int k = 0; k < 3; ++k) {
-        const Scalar* f = block.f[k];
-        const Scalar* vm = v_mid[k] + i0;
-        DRAPE_OMP_SIMD
-        for (int j = 0; j < block.count; ++j) {
-          const Index i = i0 + j;
-          x_new[3 * i + k] = x[3 * i + k] + dt * vm[j];
-          v_new[3 * i + k] = v[3 * i + k] + dt * (f[j] * inverse_mass[i]);
-        }
+      const Scalar *f0 = block.f[0], *f1 = block.f[1], *f2 = block.f[2];
+      const Scalar *x0 = xs.p[0] + i0, *x1 = xs.p[1] + i0, *x2 = xs.p[2] + i0;
+      const Scalar *v0 = vs.p[0] + i0, *v1 = vs.p[1] + i0, *v2 = vs.p[2] + i0;
+      const Scalar *m0 = v_mid[0] + i0, *m1 = v_mid[1] + i0, *m2 = v_mid[2] + i0;
+      const Scalar* w = inverse_mass + i0;
+      Scalar* xn = x_new + 3 * i0;
+      Scalar* vn = v_new + 3 * i0;
+      Scalar block_probe = 0;
+      // All three components in one loop: whole-vector stores of the interleaved results.
+      DRAPE_OMP_SIMD_SUM(block_probe)
+      for (int j = 0; j < block.count; ++j) {
+        const Scalar y0 = x0[j] + dt * m0[j], y1 = x1[j] + dt * m1[j], y2 = x2[j] + dt * m2[j];
+        const Scalar u0 = v0[j] + dt * (f0[j] * w[j]);
+        const Scalar u1 = v1[j] + dt * (f1[j] * w[j]);
+        const Scalar u2 = v2[j] + dt * (f2[j] * w[j]);
+        xn[3 * j] = y0;
+        xn[3 * j + 1] = y1;
+        xn[3 * j + 2] = y2;
+        vn[3 * j] = u0;
+        vn[3 * j + 1] = u1;
+        vn[3 * j + 2] = u2;
+        block_probe += (y0 + y1 + y2) * 0 + (u0 + u1 + u2) * 0;
       }
-      probe += detail::finish_explicit_block(pins, m_pin_end, i0, block.count, x, dt, x_new, v_new);
+      probe += detail::finish_explicit_block(pins, m_pin_end, i0, block.count, x, dt, x_new, v_new, block_probe);
     });
     if (!(probe == 0)) finite.store(false, std::memory_order_relaxed);
   });

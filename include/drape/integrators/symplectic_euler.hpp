@@ -9,9 +9,9 @@
 /// Pinned nodes end the step on their path with velocity (x(t + dt) - x) / dt, as in RK2; contacts
 /// with colliders are resolved on the step's result (physics/contact_handler.hpp).
 ///
-/// One step is one parallel region with one barrier: the spring pass, then the node pass fused with
-/// the update and the finiteness check (force_assembler.hpp). Bitwise identical for any thread
-/// count. Force terms are evaluated at (x_t, v_t, t) before it.
+/// One step is one parallel region with two barriers: x and v copied by component, the spring pass,
+/// then the node pass fused with the update and the finiteness check (force_assembler.hpp). Bitwise identical for any
+/// thread count. Force terms are evaluated at (x_t, v_t, t) before it.
 
 #include <algorithm>
 #include <atomic>
@@ -58,7 +58,8 @@ StepStatus SymplecticEuler<Scalar>::step(State<Scalar>& state) {
   this->require_state_fits(state);
   const Scalar dt = this->dt();
   const Scalar* x = state.positions.data();
-  const Scalar* v = state.velocities.data();
+  // x and v by component (copy_input), read by the node pass too.
+  const NodeView<Scalar> xs = m_forces.input_positions(), vs = m_forces.input_velocities();
   Scalar* x_new = m_x_new.data();
   Scalar* v_new = m_v_new.data();
   const Scalar* inverse_mass = m_inverse_mass.data();
@@ -68,22 +69,37 @@ StepStatus SymplecticEuler<Scalar>::step(State<Scalar>& state) {
   m_forces.evaluate_terms(state.positions, state.velocities, state.time);
 
   run_in_team(m_forces.threads(), [&] {
-    m_forces.spring_pass(node_view(state.positions), node_view(state.velocities));
+    m_forces.copy_input(state.positions, state.velocities);
+    team_barrier();
+    m_forces.spring_pass(xs, vs);
     team_barrier();
     Scalar probe = 0;  // NaN if any new value is not finite (0 * inf = NaN), else 0
     m_forces.node_pass([&](const ForceBlock<Scalar>& block) {
       const Index i0 = block.begin;
-      for (int k = 0; k < 3; ++k) {
-        const Scalar* f = block.f[k];
-        DRAPE_OMP_SIMD
-        for (int j = 0; j < block.count; ++j) {
-          const Index i = i0 + j;
-          const Scalar velocity = v[3 * i + k] + dt * (f[j] * inverse_mass[i]);
-          v_new[3 * i + k] = velocity;
-          x_new[3 * i + k] = x[3 * i + k] + dt * velocity;  // the new velocity: symplectic
-        }
+      const Scalar *f0 = block.f[0], *f1 = block.f[1], *f2 = block.f[2];
+      const Scalar *x0 = xs.p[0] + i0, *x1 = xs.p[1] + i0, *x2 = xs.p[2] + i0;
+      const Scalar *v0 = vs.p[0] + i0, *v1 = vs.p[1] + i0, *v2 = vs.p[2] + i0;
+      const Scalar* w = inverse_mass + i0;
+      Scalar* xn = x_new + 3 * i0;
+      Scalar* vn = v_new + 3 * i0;
+      Scalar block_probe = 0;
+      // All three components in one loop: whole-vector stores of the interleaved results. The
+      // position moves with the new velocity: symplectic.
+      DRAPE_OMP_SIMD_SUM(block_probe)
+      for (int j = 0; j < block.count; ++j) {
+        const Scalar u0 = v0[j] + dt * (f0[j] * w[j]);
+        const Scalar u1 = v1[j] + dt * (f1[j] * w[j]);
+        const Scalar u2 = v2[j] + dt * (f2[j] * w[j]);
+        vn[3 * j] = u0;
+        vn[3 * j + 1] = u1;
+        vn[3 * j + 2] = u2;
+        const Scalar y0 = x0[j] + dt * u0, y1 = x1[j] + dt * u1, y2 = x2[j] + dt * u2;
+        xn[3 * j] = y0;
+        xn[3 * j + 1] = y1;
+        xn[3 * j + 2] = y2;
+        block_probe += (y0 + y1 + y2) * 0 + (u0 + u1 + u2) * 0;
       }
-      probe += detail::finish_explicit_block(pins, m_pin_end, i0, block.count, x, dt, x_new, v_new);
+      probe += detail::finish_explicit_block(pins, m_pin_end, i0, block.count, x, dt, x_new, v_new, block_probe);
     });
     if (!(probe == 0)) finite.store(false, std::memory_order_relaxed);
   });

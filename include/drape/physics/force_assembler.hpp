@@ -6,7 +6,12 @@
 /// Forces are computed for pinned nodes too (the negative of a pinned node's force is the reaction
 /// its pin exerts, see diagnostics.hpp); the integrators ignore them.
 ///
-/// Two phases with one barrier between them (spring_families.hpp explains the storage):
+/// Three phases with a barrier after each of the first two (spring_families.hpp explains the
+/// storage):
+/// 0. `copy_input`: the positions and velocities (3 x n, the components of a node side by side)
+///    copied to one array per component, so that the spring pass loads whole vectors instead of
+///    every third value (the copy costs a fraction of what the strided loads cost: bench/analysis.md,
+///    session 14).
 /// 1. `spring_pass`: every spring's force on its first node, run by run, into per-family force
 ///    slots. A run's ends are contiguous in memory, so the loop vectorises (SSE2 by default).
 /// 2. `node_pass`: every node sums gravity, its springs' slots and the force terms' share, in
@@ -31,21 +36,11 @@
 
 namespace drape {
 
-/// Read-only `3 x n` node data: component k of node i at `p[k][Stride * i]`. Stride 3 views a
-/// `Matrix3X`, stride 1 three separate component arrays.
-template <class Scalar, int Stride>
+/// Read-only node data by component: component k of node i at `p[k][i]`.
+template <class Scalar>
 struct NodeView {
   const Scalar* p[3];
 };
-
-/// Stride-3 view of contiguous `3 x n` node data (a Matrix3X, or a Ref3X / ConstRef3X to one).
-template <class Derived>
-NodeView<typename Derived::Scalar, 3> node_view(const Eigen::DenseBase<Derived>& m) {
-  static_assert(Derived::RowsAtCompileTime == 3 && Derived::OuterStrideAtCompileTime == 3,
-                "node_view needs contiguous 3 x n node data");
-  const typename Derived::Scalar* p = m.derived().data();
-  return {{p, p + 1, p + 2}};
-}
 
 /// Total forces of the nodes [begin, begin + count): component k of node begin + j is `f[k][j]`.
 template <class Scalar>
@@ -76,10 +71,17 @@ class ForceAssembler {
   int threads() const { return effective_threads(m_threads, m_cloth->springs().size(), min_springs_per_thread); }
   const SpringFamilies<Scalar>& families() const { return m_families; }
 
+  /// Phase 0 for this thread's share of the nodes: `x` and `v` (3 x n) into input_positions() and
+  /// input_velocities() (call from every thread of a team, then team_barrier() before the spring
+  /// pass reads them).
+  void copy_input(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v) const;
+  /// The data of the last copy_input(), one array per component.
+  NodeView<Scalar> input_positions() const { return component_view(0); }
+  NodeView<Scalar> input_velocities() const { return component_view(3); }
+
   /// Phase 1 for this thread's share of the runs (call from every thread of a team, then
   /// team_barrier() before node_pass).
-  template <int Stride>
-  void spring_pass(const NodeView<Scalar, Stride>& x, const NodeView<Scalar, Stride>& v) const;
+  void spring_pass(const NodeView<Scalar>& x, const NodeView<Scalar>& v) const;
 
   /// True if the cloth has force terms besides springs and gravity.
   bool has_terms() const { return !m_cloth->force_terms().empty(); }
@@ -107,13 +109,16 @@ class ForceAssembler {
  private:
   /// spring_pass's loops, compiled once for the baseline instruction set and once for AVX2
   /// (instruction_set.hpp): inlined into each caller, so each caller's target applies.
-  template <bool Avx2, int Stride>
-  DRAPE_INLINE_LOOP void spring_pass_loops(const NodeView<Scalar, Stride>& x, const NodeView<Scalar, Stride>& v) const;
+  template <bool Avx2>
+  DRAPE_INLINE_LOOP void spring_pass_loops(const NodeView<Scalar>& x, const NodeView<Scalar>& v) const;
+  /// copy_input's loop, inlined into both versions like spring_pass_loops.
+  DRAPE_INLINE_LOOP void copy_input_loops(const Scalar* x, const Scalar* v) const;
 #if DRAPE_AVX2_DISPATCH
-  template <int Stride>
-  __attribute__((target("avx2"))) void spring_pass_avx2(const NodeView<Scalar, Stride>& x,
-                                                        const NodeView<Scalar, Stride>& v) const {
+  __attribute__((target("avx2"))) void spring_pass_avx2(const NodeView<Scalar>& x, const NodeView<Scalar>& v) const {
     spring_pass_loops<true>(x, v);
+  }
+  __attribute__((target("avx2"))) void copy_input_avx2(const Scalar* x, const Scalar* v) const {
+    copy_input_loops(x, v);
   }
 #endif
 
@@ -140,6 +145,12 @@ class ForceAssembler {
     }
   }
 
+  /// Component k of the input's positions (first = 0) or velocities (first = 3).
+  Scalar* input(int first, int k) const {
+    return m_input.data() + std::size_t(first + k) * std::size_t(m_cloth->node_count());
+  }
+  NodeView<Scalar> component_view(int first) const { return {{input(first, 0), input(first, 1), input(first, 2)}}; }
+
   Scalar* slots(int family, int component) const {
     return m_slots.data() + (std::size_t(family) * 3 + std::size_t(component)) * std::size_t(m_families.slot_count()) +
            std::size_t(m_families.padding());
@@ -151,6 +162,8 @@ class ForceAssembler {
   /// Per family and component: the force of the spring whose first node is i at slot i, 0 where
   /// there is no spring (those slots are never written).
   mutable std::vector<Scalar> m_slots;
+  /// copy_input()'s arrays: positions x, y, z, then velocities x, y, z, n values each.
+  mutable std::vector<Scalar> m_input;
   /// The force terms' total of the last evaluate_terms() (3 x n; empty without terms).
   mutable Matrix3X<Scalar> m_term_forces;
 };
@@ -162,7 +175,8 @@ ForceAssembler<Scalar>::ForceAssembler(const Cloth<Scalar>& cloth, int threads)
     : m_cloth(&cloth),
       m_threads(threads),
       m_families(cloth.springs(), cloth.node_count()),
-      m_slots(std::size_t(m_families.family_count()) * 3 * std::size_t(m_families.slot_count()), Scalar(0)) {
+      m_slots(std::size_t(m_families.family_count()) * 3 * std::size_t(m_families.slot_count()), Scalar(0)),
+      m_input(6 * std::size_t(cloth.node_count())) {
   if (has_terms()) m_term_forces.setZero(3, cloth.node_count());
 }
 
@@ -183,8 +197,38 @@ void ForceAssembler<Scalar>::evaluate_terms_in_team(const ConstRef3X<Scalar>& x,
 }
 
 template <class Scalar>
-template <int Stride>
-void ForceAssembler<Scalar>::spring_pass(const NodeView<Scalar, Stride>& x, const NodeView<Scalar, Stride>& v) const {
+void ForceAssembler<Scalar>::copy_input(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v) const {
+  DRAPE_ASSERT(x.cols() == m_cloth->node_count() && v.cols() == m_cloth->node_count(),
+               "copy_input(): x and v must have one column per node");
+#if DRAPE_AVX2_DISPATCH
+  if (instruction_set() == InstructionSet::Avx2) {
+    copy_input_avx2(x.data(), v.data());
+    return;
+  }
+#endif
+  copy_input_loops(x.data(), v.data());
+}
+
+template <class Scalar>
+DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::copy_input_loops(const Scalar* x, const Scalar* v) const {
+  const Index n = m_cloth->node_count();
+  // Shares of whole blocks, as node_pass: no two threads write to one cache line.
+  const auto blocks = even_share((n + block_nodes - 1) / block_nodes, team_rank(), team_size());
+  const Index begin = Index(blocks.first) * block_nodes, end = std::min<Index>(n, Index(blocks.second) * block_nodes);
+  for (int first = 0; first < 6; first += 3) {
+    const Scalar* from = first == 0 ? x : v;
+    Scalar *to0 = input(first, 0), *to1 = input(first, 1), *to2 = input(first, 2);
+    DRAPE_OMP_SIMD
+    for (Index i = begin; i < end; ++i) {
+      to0[i] = from[3 * i];
+      to1[i] = from[3 * i + 1];
+      to2[i] = from[3 * i + 2];
+    }
+  }
+}
+
+template <class Scalar>
+void ForceAssembler<Scalar>::spring_pass(const NodeView<Scalar>& x, const NodeView<Scalar>& v) const {
 #if DRAPE_AVX2_DISPATCH
   if (instruction_set() == InstructionSet::Avx2) {
     spring_pass_avx2(x, v);
@@ -195,9 +239,9 @@ void ForceAssembler<Scalar>::spring_pass(const NodeView<Scalar, Stride>& x, cons
 }
 
 template <class Scalar>
-template <bool Avx2, int Stride>
-DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::spring_pass_loops(const NodeView<Scalar, Stride>& x,
-                                                                 const NodeView<Scalar, Stride>& v) const {
+template <bool Avx2>
+DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::spring_pass_loops(const NodeView<Scalar>& x,
+                                                                 const NodeView<Scalar>& v) const {
   constexpr int max_run = SpringFamilies<Scalar>::max_run_length;
   // One run at a time in three vectorised loops: gather d, |d|^2, w.d; sqrt; factor and force.
   alignas(64) Scalar d[3][max_run];
@@ -208,7 +252,7 @@ DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::spring_pass_loops(const NodeView<
   const auto share = m_families.run_share(team_rank(), team_size());
   for (int r = share.first; r < share.second; ++r) {
     const typename SpringFamilies<Scalar>::Run& run = runs[std::size_t(r)];
-    const Index a = Stride * Index(run.first), b = a + Stride * Index(offsets[std::size_t(run.family)]);
+    const Index a = run.first, b = a + offsets[std::size_t(run.family)];
     const Index count = run.count;
     const Scalar *xa0 = x.p[0] + a, *xa1 = x.p[1] + a, *xa2 = x.p[2] + a;
     const Scalar *xb0 = x.p[0] + b, *xb1 = x.p[1] + b, *xb2 = x.p[2] + b;
@@ -216,15 +260,14 @@ DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::spring_pass_loops(const NodeView<
     const Scalar *vb0 = v.p[0] + b, *vb1 = v.p[1] + b, *vb2 = v.p[2] + b;
     DRAPE_OMP_SIMD
     for (Index j = 0; j < count; ++j) {
-      const Scalar d0 = xb0[Stride * j] - xa0[Stride * j];
-      const Scalar d1 = xb1[Stride * j] - xa1[Stride * j];
-      const Scalar d2 = xb2[Stride * j] - xa2[Stride * j];
+      const Scalar d0 = xb0[j] - xa0[j];
+      const Scalar d1 = xb1[j] - xa1[j];
+      const Scalar d2 = xb2[j] - xa2[j];
       d[0][j] = d0;
       d[1][j] = d1;
       d[2][j] = d2;
       length[j] = d0 * d0 + d1 * d1 + d2 * d2;
-      w_dot_d[j] = (vb0[Stride * j] - va0[Stride * j]) * d0 + (vb1[Stride * j] - va1[Stride * j]) * d1 +
-                   (vb2[Stride * j] - va2[Stride * j]) * d2;
+      w_dot_d[j] = (vb0[j] - va0[j]) * d0 + (vb1[j] - va1[j]) * d1 + (vb2[j] - va2[j]) * d2;
     }
     if constexpr (Avx2)
       detail::sqrt_in_place_avx2(length, count);
@@ -294,7 +337,9 @@ void ForceAssembler<Scalar>::force(const ConstRef3X<Scalar>& x, const ConstRef3X
   evaluate_terms(x, v, time);
   Scalar* out = f.data();
   run_in_team(threads(), [&] {
-    spring_pass(node_view(x), node_view(v));
+    copy_input(x, v);
+    team_barrier();
+    spring_pass(input_positions(), input_velocities());
     team_barrier();
     node_pass([&](const ForceBlock<Scalar>& block) {
       Scalar* o = out + 3 * block.begin;
