@@ -10,8 +10,8 @@
 /// with colliders are resolved on the step's result (physics/contact_handler.hpp).
 ///
 /// One step is one parallel region with two barriers: x and v copied by component, the spring pass,
-/// then the node pass fused with the update and the finiteness check (force_assembler.hpp). Bitwise identical for any
-/// thread count. Force terms are evaluated at (x_t, v_t, t) before it.
+/// then the node pass fused with the update and the finiteness check (force_assembler.hpp).
+/// Bitwise identical for any thread count. Force terms are evaluated at (x_t, v_t, t) before it.
 
 #include <algorithm>
 #include <atomic>

@@ -18,8 +18,9 @@
 ///    blocks of `block_nodes` nodes, in a fixed order: results are bitwise identical for any
 ///    thread count.
 /// Force terms are evaluated before phase 2 by `evaluate_terms` (those that share work on the
-/// team, the others on one thread; nothing to do without terms). The phases are public so that an integrator can fuse
-/// its own node updates into phase 2 and run a whole step in one parallel region (rk2.hpp).
+/// team, the others on one thread; nothing to do without terms). The phases are public so that an
+/// integrator can fuse its own node updates into phase 2 and run a whole step in one parallel
+/// region (rk2.hpp).
 
 #include <algorithm>
 #include <vector>
