@@ -1,10 +1,11 @@
 #pragma once
 /// \file vector_sqrt.hpp
-/// Square roots of an array in place, several per instruction and correctly rounded.
+/// Square roots several per instruction and correctly rounded: of an array in place (baseline
+/// instruction set) and of one AVX2 register.
 ///
 /// Compilers do not vectorise `std::sqrt` unless errno is switched off (`-fno-math-errno`), and
 /// Eigen's packet sqrt for float is an approximation (rsqrt and a Newton step) whose last bits
-/// differ between CPU vendors. These loops call the processor's exact square root instructions
+/// differ between CPU vendors. These call the processor's exact square root instructions
 /// directly: SSE2 (2 doubles, 4 floats) in the baseline version, AVX2 (4 doubles, 8 floats) in the
 /// other (instruction_set.hpp). An exact square root has one answer, so both versions, and the
 /// scalar tail, give the same bits.
@@ -61,35 +62,25 @@ inline void sqrt_in_place(Scalar* a, Index n) {
 using Double4 = double __attribute__((vector_size(32)));
 using Float8 = float __attribute__((vector_size(32)));
 
-/// AVX2 version: vsqrtpd / vsqrtps on 256-bit registers. A twin of sqrt_in_place rather than one
-/// template over the vector type: a 256-bit builtin may only be inlined into a function compiled
-/// for AVX2, so the loop holding it must carry the target attribute itself.
+/// The 256-bit vector of `Scalar`: 4 doubles or 8 floats.
 template <class Scalar>
-__attribute__((target("avx2"))) inline void sqrt_in_place_avx2(Scalar* a, Index n) {
-  constexpr Index lanes = 32 / sizeof(Scalar);
-  Index j = 0;
-  for (; j + lanes <= n; j += lanes) {
-    if constexpr (sizeof(Scalar) == 8) {
-      Double4 p;
-      std::memcpy(&p, a + j, sizeof p);
-      p = __builtin_ia32_sqrtpd256(p);
-      std::memcpy(a + j, &p, sizeof p);
-    } else {
-      Float8 p;
-      std::memcpy(&p, a + j, sizeof p);
-      p = __builtin_ia32_sqrtps256(p);
-      std::memcpy(a + j, &p, sizeof p);
-    }
-  }
-  for (; j < n; ++j) a[j] = std::sqrt(a[j]);
-}
+struct Avx2Vector;
+template <>
+struct Avx2Vector<double> {
+  using type = Double4;
+};
+template <>
+struct Avx2Vector<float> {
+  using type = Float8;
+};
 
-#else
-
-template <class Scalar>
-inline void sqrt_in_place_avx2(Scalar* a, Index n) {
-  sqrt_in_place(a, n);
+/// AVX2 version: vsqrtpd / vsqrtps on one 256-bit register, for loops that keep their values in
+/// registers (force_assembler.hpp). A 256-bit builtin may only be inlined into a function compiled
+/// for AVX2, so these carry the target attribute and are inlined into their AVX2 callers.
+__attribute__((target("avx2"), always_inline)) inline Double4 sqrt_avx2(Double4 p) {
+  return __builtin_ia32_sqrtpd256(p);
 }
+__attribute__((target("avx2"), always_inline)) inline Float8 sqrt_avx2(Float8 p) { return __builtin_ia32_sqrtps256(p); }
 
 #endif
 
