@@ -2,10 +2,11 @@
 /// \file instruction_set.hpp
 /// Which x86-64 vector instructions drape's hot loops use, chosen at run time.
 ///
-/// A build without `-march` targets every x86-64 (SSE2). The spring pass of the explicit
-/// integrators (force_assembler.hpp) is also compiled for AVX2 and picks that version when the
-/// CPU has it: 4 doubles or 8 floats per instruction, above all for the square root and the
-/// division of every spring (docs/benchmarks.md has the measured gain). Both versions use the same
+/// A build without `-march` targets every x86-64 (SSE2). The hot loops (the explicit integrators'
+/// spring and node passes, the implicit system's assembly, edge product and multigrid residual)
+/// are also compiled for AVX2 and pick that version when the CPU has it: 4 doubles or 8 floats per
+/// instruction, above all for the square root and the division of every spring
+/// (docs/benchmarks.md has the measured gain). Both versions use the same
 /// correctly rounded operations in the same order and no fused multiply-add, so the results are
 /// bitwise the same whichever runs.
 ///

@@ -31,15 +31,21 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "drape/config.hpp"
 #include "drape/core/cloth.hpp"
 #include "drape/core/enum_names.hpp"
+#include "drape/core/instruction_set.hpp"
 #include "drape/core/team.hpp"
 #include "drape/linalg/block3.hpp"
 #include "drape/linalg/linear_system.hpp"
 #include "drape/physics/spring_jacobian.hpp"
+
+#if DRAPE_AVX2_DISPATCH
+#include <immintrin.h>
+#endif
 
 namespace drape {
 
@@ -55,6 +61,60 @@ struct EnumNames<PinTreatment> {
   static constexpr std::array<EnumName<PinTreatment>, 2> values{
       {{PinTreatment::Eliminate, "eliminate"}, {PinTreatment::Filter, "filter"}}};
 };
+
+#if DRAPE_AVX2_DISPATCH
+namespace detail {
+
+/// Pass 1 of the system assembly for four springs with AVX2 (symmetric variants, double): the
+/// spring's C (6 values, into `c`, grouped as EdgeOperator::value_index()) and g (into `g`, grouped
+/// likewise), from positions and velocities gathered out of the 3 x n storage. linearise_spring's
+/// operations and the pass's in their order (Eigen sums a 3-vector's squares and products left to
+/// right) and no FMA: the bits of the scalar pass.
+__attribute__((target("avx2"))) inline void symmetric_spring_group_avx2(const double* x, const double* v, const int* ia,
+                                                                        const int* ib, const double* rest,
+                                                                        const double* ks, const double* kd, double dt,
+                                                                        bool spd, double* c, double* g) {
+  const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(ia));
+  const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(ib));
+  const __m128i a3 = _mm_add_epi32(a, _mm_add_epi32(a, a)), b3 = _mm_add_epi32(b, _mm_add_epi32(b, b));
+  // The masked gather with a zero source: GCC 12 warns about the plain one's uninitialised source.
+  const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), zero = _mm256_setzero_pd();
+  __m256d d[3], w[3], u[3];
+  for (int k = 0; k < 3; ++k) {
+    d[k] = _mm256_sub_pd(_mm256_mask_i32gather_pd(zero, x + k, b3, all, 8),
+                         _mm256_mask_i32gather_pd(zero, x + k, a3, all, 8));
+    w[k] = _mm256_sub_pd(_mm256_mask_i32gather_pd(zero, v + k, b3, all, 8),
+                         _mm256_mask_i32gather_pd(zero, v + k, a3, all, 8));
+  }
+  const __m256d one = _mm256_set1_pd(1.0);
+  const __m256d length = _mm256_sqrt_pd(
+      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1])), _mm256_mul_pd(d[2], d[2])));
+  const __m256d inverse_length = _mm256_div_pd(one, length);
+  for (int k = 0; k < 3; ++k) u[k] = _mm256_mul_pd(d[k], inverse_length);
+  const __m256d wu =
+      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(w[0], u[0]), _mm256_mul_pd(w[1], u[1])), _mm256_mul_pd(w[2], u[2]));
+  const __m256d l = _mm256_loadu_pd(rest), k_s = _mm256_loadu_pd(ks), k_d = _mm256_loadu_pd(kd);
+  const __m256d phi = _mm256_add_pd(_mm256_mul_pd(k_s, _mm256_sub_pd(length, l)), _mm256_mul_pd(k_d, wu));
+  __m256d t = _mm256_sub_pd(one, _mm256_mul_pd(l, inverse_length));
+  if (spd) t = _mm256_max_pd(zero, t);  // (t < 0) ? 0 : t, as std::max(t, 0)
+  const __m256d k_uu = _mm256_mul_pd(k_s, _mm256_sub_pd(one, t)), k_i = _mm256_mul_pd(k_s, t);
+  const __m256d vdt = _mm256_set1_pd(dt), dt2 = _mm256_set1_pd(dt * dt);
+  const __m256d p = _mm256_add_pd(_mm256_mul_pd(vdt, k_d), _mm256_mul_pd(dt2, k_uu));
+  const __m256d q = _mm256_mul_pd(dt2, k_i);
+  const __m256d g_u = _mm256_add_pd(_mm256_mul_pd(vdt, phi), _mm256_mul_pd(_mm256_mul_pd(dt2, k_uu), wu));
+  const __m256d pu0 = _mm256_mul_pd(p, u[0]), pu1 = _mm256_mul_pd(p, u[1]), pu2 = _mm256_mul_pd(p, u[2]);
+  _mm256_storeu_pd(c, _mm256_add_pd(_mm256_mul_pd(pu0, u[0]), q));
+  _mm256_storeu_pd(c + 4, _mm256_mul_pd(pu1, u[0]));
+  _mm256_storeu_pd(c + 8, _mm256_add_pd(_mm256_mul_pd(pu1, u[1]), q));
+  _mm256_storeu_pd(c + 12, _mm256_mul_pd(pu2, u[0]));
+  _mm256_storeu_pd(c + 16, _mm256_mul_pd(pu2, u[1]));
+  _mm256_storeu_pd(c + 20, _mm256_add_pd(_mm256_mul_pd(pu2, u[2]), q));
+  for (int k = 0; k < 3; ++k)
+    _mm256_storeu_pd(g + 4 * k, _mm256_add_pd(_mm256_mul_pd(g_u, u[k]), _mm256_mul_pd(q, w[k])));
+}
+
+}  // namespace detail
+#endif
 
 template <class Scalar = double>
 class JacobianAssembler {
@@ -131,7 +191,9 @@ class JacobianAssembler {
   std::vector<std::array<int, 6>> m_slots;  // per spring: row a, row b, block aa, bb, ab, ba (-1 = none)
   std::vector<int> m_incidence_begin;       // per row, into m_incidence
   std::vector<Incidence> m_incidence;
-  mutable std::vector<Scalar> m_spring_rhs;  // g of every spring (3 each), written by pass 1
+  /// g of every spring, grouped like the edge values (EdgeOperator::value_index() with stride 3),
+  /// written by pass 1.
+  mutable std::vector<Scalar> m_spring_rhs;
   BlockSparseMatrix<Scalar> m_pattern;
   EdgeOperator<Scalar> m_edges;            // structure only
   bool m_term_derivatives = false;         // some force term adds derivative blocks
@@ -229,7 +291,7 @@ JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, const s
       m_incidence[static_cast<std::size_t>(next[static_cast<std::size_t>(r)]++)] = Incidence{s, block, side};
     }
   }
-  m_spring_rhs.assign(3 * static_cast<std::size_t>(sp.size()), Scalar(0));
+  m_spring_rhs.assign(std::size_t(sp.size() + 3) / 4 * 12, Scalar(0));
   // Blocks that only force terms write: the row pass leaves them alone, so they are zeroed first.
   for (const std::array<int, 2>& pair : term_pairs)
     for (const int block : {m_pattern.find(pair[0], pair[1]), m_pattern.find(pair[1], pair[0])})
@@ -421,40 +483,58 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
 
   // Pass 1, per spring: C = p u u^T + q I (+ r u w^T, Exact) and g = dt (phi u + dt K w) with
   // K w = (k_uu w.u + k_uw w.w) u + k_i w.
+  const auto spring = [&](int s) {
+    const SpringLinearisation<Scalar> l = linearise_spring<Scalar>(x.col(ia[s]), x.col(ib[s]), v.col(ia[s]),
+                                                                   v.col(ib[s]), rest[s], ks[s], kd[s], variant);
+    const Scalar p = dt * kd[s] + dt2 * l.k_uu;
+    const Scalar q = dt2 * l.k_i;
+    const Scalar u0 = l.u[0], u1 = l.u[1], u2 = l.u[2];
+    Scalar c[stride];
+    Scalar g_u = dt * l.phi + dt2 * l.k_uu * l.wu;
+    if constexpr (Symmetric) {
+      // Lower triangle, row by row: (0,0) (1,0) (1,1) (2,0) (2,1) (2,2).
+      const Scalar pu0 = p * u0, pu1 = p * u1, pu2 = p * u2;
+      c[0] = pu0 * u0 + q;
+      c[1] = pu1 * u0;
+      c[2] = pu1 * u1 + q;
+      c[3] = pu2 * u0;
+      c[4] = pu2 * u1;
+      c[5] = pu2 * u2 + q;
+    } else {
+      const Scalar r = dt2 * l.k_uw;
+      g_u += dt2 * l.k_uw * l.w.squaredNorm();
+      for (int j = 0; j < 3; ++j) {  // column j = (p u_j + r w_j) u + q e_j
+        const Scalar cj = p * l.u[j] + r * l.w[j];
+        c[3 * j] = cj * u0;
+        c[3 * j + 1] = cj * u1;
+        c[3 * j + 2] = cj * u2;
+        c[4 * j] += q;
+      }
+    }
+    for (int k = 0; k < stride; ++k) blocks[EdgeOperator<Scalar>::value_index(s, k, stride)] = c[k];
+    for (int k = 0; k < 3; ++k) g_all[EdgeOperator<Scalar>::value_index(s, k, 3)] = g_u * l.u[k] + q * l.w[k];
+  };
+  constexpr int group = EdgeOperator<Scalar>::group;
+  const int groups = (springs + group - 1) / group;
+#if DRAPE_AVX2_DISPATCH
+  constexpr bool vectorised = Symmetric && std::is_same_v<Scalar, double>;
+  const bool avx2 = vectorised && instruction_set() == InstructionSet::Avx2;
+#endif
   const auto spring_pass = [&]() {
-    team_for(springs, [&](int s) {
-      const SpringLinearisation<Scalar> l = linearise_spring<Scalar>(x.col(ia[s]), x.col(ib[s]), v.col(ia[s]),
-                                                                     v.col(ib[s]), rest[s], ks[s], kd[s], variant);
-      const Scalar p = dt * kd[s] + dt2 * l.k_uu;
-      const Scalar q = dt2 * l.k_i;
-      const Scalar u0 = l.u[0], u1 = l.u[1], u2 = l.u[2];
-      Scalar c[stride];
-      Scalar g_u = dt * l.phi + dt2 * l.k_uu * l.wu;
-      if constexpr (Symmetric) {
-        // Lower triangle, row by row: (0,0) (1,0) (1,1) (2,0) (2,1) (2,2).
-        const Scalar pu0 = p * u0, pu1 = p * u1, pu2 = p * u2;
-        c[0] = pu0 * u0 + q;
-        c[1] = pu1 * u0;
-        c[2] = pu1 * u1 + q;
-        c[3] = pu2 * u0;
-        c[4] = pu2 * u1;
-        c[5] = pu2 * u2 + q;
-      } else {
-        const Scalar r = dt2 * l.k_uw;
-        g_u += dt2 * l.k_uw * l.w.squaredNorm();
-        for (int j = 0; j < 3; ++j) {  // column j = (p u_j + r w_j) u + q e_j
-          const Scalar cj = p * l.u[j] + r * l.w[j];
-          c[3 * j] = cj * u0;
-          c[3 * j + 1] = cj * u1;
-          c[3 * j + 2] = cj * u2;
-          c[4 * j] += q;
+    team_for(groups, [&](int g) {
+      const int first = g * group, last = std::min(springs, first + group);
+#if DRAPE_AVX2_DISPATCH
+      if constexpr (vectorised) {
+        if (avx2 && last - first == group) {
+          detail::symmetric_spring_group_avx2(x.data(), v.data(), ia + first, ib + first, rest + first, ks + first,
+                                              kd + first, dt, variant == JacobianVariant::Spd,
+                                              blocks + EdgeOperator<Scalar>::value_index(first, 0, stride),
+                                              g_all + EdgeOperator<Scalar>::value_index(first, 0, 3));
+          return;
         }
       }
-      for (int k = 0; k < stride; ++k) blocks[EdgeOperator<Scalar>::value_index(s, k, stride)] = c[k];
-      Scalar* g = g_all + 3 * s;
-      g[0] = g_u * u0 + q * l.w[0];
-      g[1] = g_u * u1 + q * l.w[1];
-      g[2] = g_u * u2 + q * l.w[2];
+#endif
+      for (int s = first; s < last; ++s) spring(s);
     });
   };
   // The full 3x3 block (column-major) of a spring's stored C.
@@ -489,7 +569,9 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
           Scalar* off = values + 9 * in.block;
           for (int q = 0; q < 9; ++q) off[q] = -full[q];
         }
-        const Scalar* g = g_all + 3 * in.spring;
+        const Scalar g[3] = {g_all[EdgeOperator<Scalar>::value_index(in.spring, 0, 3)],
+                             g_all[EdgeOperator<Scalar>::value_index(in.spring, 1, 3)],
+                             g_all[EdgeOperator<Scalar>::value_index(in.spring, 2, 3)]};
         if (in.node_b) {
           b0 -= g[0];
           b1 -= g[1];
