@@ -130,7 +130,9 @@ SolveStatus PcgSolver<Scalar>::solve(const LinearSystem<Scalar>& system, VectorX
     preconditioner.apply_in_team(r, z);
     for_rows_summing(mine, slot, -1, [&](int row, double& rz_sum, double&) {
       if (constrained) constraints.project_row(row, z + 3 * row);
-      for (int k = 0; k < 3; ++k) rz_sum += double(r[3 * row + k]) * double(z[3 * row + k]);
+      // A row's three terms first: a third of the additions in the chain through rz_sum.
+      rz_sum += double(r[3 * row]) * double(z[3 * row]) + double(r[3 * row + 1]) * double(z[3 * row + 1]) +
+                double(r[3 * row + 2]) * double(z[3 * row + 2]);
     });
   };
   // Every thread adds the team's partials in thread order, so all agree on the same value.
@@ -222,11 +224,12 @@ SolveStatus PcgSolver<Scalar>::solve(const LinearSystem<Scalar>& system, VectorX
       }
       const Scalar alpha = Scalar(rz / pq);
       for_rows_summing(mine, 1, -1, [&](int row, double& rr_sum, double&) {
+        Scalar* rr = r + 3 * row;
         for (int k = 0; k < 3; ++k) {
           xs[3 * row + k] += alpha * p[3 * row + k];
-          r[3 * row + k] -= alpha * q[3 * row + k];
-          rr_sum += double(r[3 * row + k]) * double(r[3 * row + k]);
+          rr[k] -= alpha * q[3 * row + k];
         }
+        rr_sum += double(rr[0]) * double(rr[0]) + double(rr[1]) * double(rr[1]) + double(rr[2]) * double(rr[2]);
       });
       precondition(mine, 2);  // r is complete after the barrier
       rr_norm2 = reduce(1, nt);
