@@ -93,6 +93,22 @@ inline CoarseAxis coarsen_axis(int n) {
 
 }  // namespace detail
 
+namespace detail {
+/// Coarse block `cb` = s (9 values, column-major) and, unless it is on the diagonal, its mirror
+/// block transposed[cb] = s^T: the Galerkin sums compute the blocks on or above the diagonal only.
+template <class Scalar>
+inline void store_coarse_block(const Scalar* s, int cb, const int* transposed, Scalar* coarse) {
+  Scalar* c = coarse + 9 * cb;
+  for (int q = 0; q < 9; ++q) c[q] = s[q];
+  const int ct = transposed[cb];
+  if (ct != cb) {
+    Scalar* t = coarse + 9 * ct;
+    for (int col = 0; col < 3; ++col)
+      for (int row = 0; row < 3; ++row) t[3 * col + row] = s[3 * row + col];
+  }
+}
+}  // namespace detail
+
 #if DRAPE_AVX2_DISPATCH
 namespace detail {
 /// MultigridHierarchy::galerkin() for double with AVX2, coarse blocks upper[u] for u in
@@ -116,15 +132,7 @@ __attribute__((target("avx2"))) inline void galerkin_blocks_avx2(const int* uppe
     _mm256_store_pd(s, s0);
     _mm256_storeu_pd(s + 4, s1);
     s[8] = s8;
-    const int cb = upper[u];
-    double* c = coarse + 9 * cb;
-    for (int q = 0; q < 9; ++q) c[q] = s[q];
-    const int ct = transposed[cb];
-    if (ct != cb) {
-      double* t = coarse + 9 * ct;
-      for (int col = 0; col < 3; ++col)
-        for (int row = 0; row < 3; ++row) t[3 * col + row] = s[3 * row + col];
-    }
+    store_coarse_block(s, upper[u], transposed, coarse);
   }
 }
 }  // namespace detail
@@ -339,15 +347,7 @@ void MultigridHierarchy<Scalar>::galerkin(int l, const BlockSparseMatrix<Scalar>
       const Scalar* f = fine + 9 * level.g_block[static_cast<std::size_t>(e)];
       for (int q = 0; q < 9; ++q) s[q] += w * f[q];
     }
-    const int cb = level.upper[static_cast<std::size_t>(u)];
-    Scalar* c = coarse + 9 * cb;
-    for (int q = 0; q < 9; ++q) c[q] = s[q];
-    const int ct = transposed[cb];
-    if (ct != cb) {
-      Scalar* t = coarse + 9 * ct;
-      for (int col = 0; col < 3; ++col)
-        for (int row = 0; row < 3; ++row) t[3 * col + row] = s[3 * row + col];
-    }
+    detail::store_coarse_block(s, level.upper[static_cast<std::size_t>(u)], transposed, coarse);
   });
 }
 
