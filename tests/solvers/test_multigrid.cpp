@@ -2,9 +2,11 @@
 // and definiteness CG relies on, and the iteration counts that are its reason to exist.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <Eigen/SparseCore>
 
@@ -132,20 +134,149 @@ TEST_CASE("multigrid: prolongation is bilinear interpolation, without the elimin
   }
 }
 
-TEST_CASE("multigrid: coarse operators are the Galerkin products P^T A P", "[multigrid]") {
-  const auto p = make_problem<double>(17);
-  MultigridPreconditioner<double> mg;
-  mg.analyze(p->system);
-  REQUIRE(mg.update_in_team(p->system));
-  Eigen::MatrixXd fine = p->a.to_dense();
-  REQUIRE(mg.level_count() >= 3);
+/// A with every coupling of rows two apart along a lattice line, whose row between them is in the
+/// system, replaced by two couplings of twice the block through that row (dense, pair by pair: the
+/// operator the hierarchy's level 1 is summed from).
+Eigen::MatrixXd routed_dense(const Eigen::MatrixXd& a, const GridLayout& layout) {
+  Eigen::MatrixXd routed = a;
+  const auto row = [&](int i, int j) {
+    return i < 0 || j < 0 || i >= layout.nx || j >= layout.ny
+               ? -1
+               : layout.row_of_node[static_cast<std::size_t>(j * layout.nx + i)];
+  };
+  for (int j = 0; j < layout.ny; ++j)
+    for (int i = 0; i < layout.nx; ++i)
+      for (const auto& [di, dj] : {std::pair{2, 0}, std::pair{-2, 0}, std::pair{0, 2}, std::pair{0, -2}}) {
+        const int r = row(i, j), c = row(i + di, j + dj), m = row(i + di / 2, j + dj / 2);
+        if (r < 0 || c < 0 || m < 0) continue;
+        const Eigen::Matrix3d b = a.block<3, 3>(3 * r, 3 * c);
+        routed.block<3, 3>(3 * r, 3 * c) -= b;
+        routed.block<3, 3>(3 * r, 3 * m) += 2 * b;
+        routed.block<3, 3>(3 * m, 3 * c) += 2 * b;
+        routed.block<3, 3>(3 * r, 3 * r) -= 0.5 * (b + b.transpose());
+        routed.block<3, 3>(3 * m, 3 * m) -= b + b.transpose();
+      }
+  return routed;
+}
+
+/// S a S + I - S for p's constraints (dense).
+Eigen::MatrixXd filtered_dense(const Eigen::MatrixXd& a, const LinearSystem<double>& system) {
+  const int rows = system.block_rows();
+  Eigen::MatrixXd s = Eigen::MatrixXd::Zero(3 * rows, 3 * rows);
+  for (int r = 0; r < rows; ++r) s.block<3, 3>(3 * r, 3 * r) = system.constraints.filter(r);
+  return s * a * s + Eigen::MatrixXd::Identity(3 * rows, 3 * rows) - s;
+}
+
+/// Checks that every level l >= 1 of `mg` is P^T A_{l-1} P, starting from `fine` for level 0 (dense
+/// products); returns the most blocks in a row of each level >= 1.
+std::vector<int> check_galerkin_levels(const MultigridPreconditioner<double>& mg, Eigen::MatrixXd fine) {
+  std::vector<int> widest;
   for (int l = 1; l < mg.level_count(); ++l) {
     const Eigen::MatrixXd prolong = Eigen::MatrixXd(mg.prolongation(l));
     const Eigen::MatrixXd expected = prolong.transpose() * fine * prolong;
     const Eigen::MatrixXd coarse = mg.level_matrix(l).to_dense();
     INFO("level " << l);
     CHECK((coarse - expected).norm() <= 1e-12 * expected.norm());
+    const std::vector<int>& rb = mg.level_matrix(l).row_begin();
+    int most = 0;
+    for (std::size_t r = 0; r + 1 < rb.size(); ++r) most = std::max(most, rb[r + 1] - rb[r]);
+    widest.push_back(most);
     fine = coarse;
+  }
+  return widest;
+}
+
+TEST_CASE("multigrid: coarse operators are the Galerkin products P^T A P", "[multigrid]") {
+  const auto p = make_problem<double>(17);
+  MultigridSettings settings;
+  settings.route_through_midpoints = false;
+  MultigridPreconditioner<double> mg(settings);
+  mg.analyze(p->system);
+  REQUIRE(mg.update_in_team(p->system));
+  REQUIRE(mg.level_count() >= 3);
+  const std::vector<int> widest = check_galerkin_levels(mg, p->a.to_dense());
+  CHECK(widest[0] > 9);  // unrouted, level 1 couples nodes two coarse lines apart
+}
+
+TEST_CASE("multigrid: the routed operator keeps A's energy for linear motion and reaches one node", "[multigrid]") {
+  for (PinTreatment pins : {PinTreatment::Eliminate, PinTreatment::Filter}) {
+    const auto p = make_problem<double>(17, pins);
+    MultigridHierarchy<double> hierarchy;
+    hierarchy.analyze(p->layout, p->a, 16, true);
+    REQUIRE(hierarchy.routed());
+    hierarchy.route(p->a, false);
+    const Eigen::MatrixXd a = p->a.to_dense(), routed = hierarchy.routed_matrix().to_dense();
+    INFO((pins == PinTreatment::Filter ? "filtered" : "eliminated") << " pins");
+    CHECK((routed - routed_dense(a, p->layout)).norm() <= 1e-13 * a.norm());
+    CHECK((routed - routed.transpose()).norm() <= 1e-14 * a.norm());
+    CHECK(Eigen::LLT<Eigen::MatrixXd>(routed).info() == Eigen::Success);
+    // Motion linear in the lattice coordinates (each component its own gradient): the same energy
+    // and the same forces on interior rows; a random motion has a different energy.
+    VectorX<double> linear(a.rows());
+    for (int j = 0; j < 17; ++j)
+      for (int i = 0; i < 17; ++i) {
+        const int r = p->layout.row_of_node[static_cast<std::size_t>(j * 17 + i)];
+        if (r >= 0) linear.segment<3>(3 * r) << 0.3 * i - 0.1 * j + 1.0, 0.2 * j, -0.05 * i + 0.7;
+      }
+    const double energy = linear.dot(a * linear);
+    CHECK(std::abs(linear.dot(routed * linear) - energy) <= 1e-12 * std::abs(energy));
+    VectorX<double> constant = VectorX<double>::Zero(a.rows());
+    for (int r = 0; r < p->a.block_rows(); ++r) constant.segment<3>(3 * r) << 1.0, -2.0, 0.5;
+    CHECK((routed * constant - a * constant).norm() <= 1e-12 * (a * constant).norm());  // row sums
+    const VectorX<double> random = test::random_velocities<double>(p->a.block_rows(), 1.0, 3u).reshaped();
+    CHECK(std::abs(random.dot(routed * random) - random.dot(a * random)) > 1e-6 * random.dot(a * random));
+    // Couplings to the 8 neighbours only: at most 9 blocks per row, against 13 in A.
+    int widest = 0, widest_a = 0;
+    for (int r = 0; r < p->a.block_rows(); ++r) {
+      widest = std::max(widest, hierarchy.routed_matrix().row_begin()[static_cast<std::size_t>(r) + 1] -
+                                    hierarchy.routed_matrix().row_begin()[static_cast<std::size_t>(r)]);
+      widest_a = std::max(
+          widest_a, p->a.row_begin()[static_cast<std::size_t>(r) + 1] - p->a.row_begin()[static_cast<std::size_t>(r)]);
+    }
+    CHECK(widest == 9);
+    CHECK(widest_a == 13);
+  }
+}
+
+TEST_CASE("multigrid: routed, the levels are P^T A' P (S A' S + I - S under a filter), 9 blocks per row",
+          "[multigrid]") {
+  for (PinTreatment pins : {PinTreatment::Eliminate, PinTreatment::Filter}) {
+    const auto p = make_problem<double>(17, pins);
+    INFO((pins == PinTreatment::Filter ? "filtered" : "eliminated") << " pins");
+    REQUIRE(p->system.constraints.empty() == (pins == PinTreatment::Eliminate));
+    MultigridPreconditioner<double> mg;  // routes by default
+    mg.analyze(p->system);
+    REQUIRE(mg.hierarchy().routed());
+    REQUIRE(mg.update_in_team(p->system));
+    Eigen::MatrixXd fine = routed_dense(p->a.to_dense(), p->layout);
+    if (pins == PinTreatment::Filter) fine = filtered_dense(fine, p->system);
+    REQUIRE(mg.level_count() >= 3);
+    const std::vector<int> widest = check_galerkin_levels(mg, fine);
+    CHECK(widest[0] == 9);
+    CHECK(*std::max_element(widest.begin(), widest.end()) == 9);
+  }
+}
+
+TEST_CASE("multigrid CG: routing keeps the iterations", "[multigrid]") {
+  for (int n : {33, 65}) {
+    const auto p = make_problem<double>(n);
+    IterativeSettings settings;
+    settings.tolerance = 1e-6;
+    settings.threads = 1;
+    settings.preconditioner = PreconditionerKind::Multigrid;
+    int iterations[2] = {0, 0};
+    for (bool route : {false, true}) {
+      MultigridSettings mg;
+      mg.route_through_midpoints = route;
+      PcgSolver<double> solver(settings, mg);
+      solver.analyze(p->system);
+      VectorX<double> x = VectorX<double>::Zero(p->b.size());
+      const SolveStatus status = solver.solve(p->system, x);
+      REQUIRE(status.ok());
+      iterations[route ? 1 : 0] = status.iterations;
+    }
+    INFO(n << " x " << n << ": " << iterations[0] << " iterations unrouted, " << iterations[1] << " routed");
+    CHECK(iterations[1] <= iterations[0] + 1);
   }
 }
 

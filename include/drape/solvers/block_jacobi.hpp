@@ -10,13 +10,39 @@
 
 #include <array>
 #include <atomic>
+#include <type_traits>
 #include <vector>
 
+#include "drape/core/instruction_set.hpp"
 #include "drape/core/team.hpp"
 #include "drape/linalg/block3.hpp"
+#include "drape/linalg/row_avx2.hpp"
 #include "drape/solvers/preconditioner.hpp"
 
 namespace drape {
+
+#if DRAPE_AVX2_DISPATCH
+namespace detail {
+/// BlockJacobi::smooth_rows() for double with AVX2: D_r^-1 t_r as three columns times broadcast
+/// t_r components, summed (c0 t0 + c1 t1) + c2 t2 like block_times(), then scaled and stored or
+/// added: the baseline's operations in its order (no FMA), so the same bits.
+__attribute__((target("avx2"))) inline void jacobi_smooth_rows_avx2(const double* inverse, const double* t,
+                                                                    double omega, bool first, double* x, int begin,
+                                                                    int end) {
+  const __m256d w = _mm256_set1_pd(omega);
+  for (int row = begin; row < end; ++row) {
+    const double* m = inverse + 9 * row;
+    const double* tr = t + 3 * row;
+    const __m256d c0 = _mm256_loadu_pd(m), c1 = _mm256_loadu_pd(m + 3);
+    const __m256d c2 = _mm256_permute4x64_pd(_mm256_loadu_pd(m + 5), 0x39);  // m6 m7 m8 m5: stays in the block
+    const __m256d d = _mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(c0, _mm256_broadcast_sd(tr)), _mm256_mul_pd(c1, _mm256_broadcast_sd(tr + 1))),
+        _mm256_mul_pd(c2, _mm256_broadcast_sd(tr + 2)));
+    store_row3_avx2(x + 3 * row, _mm256_mul_pd(w, d), !first);
+  }
+}
+}  // namespace detail
+#endif
 
 template <class Scalar = double>
 class BlockJacobi final : public Preconditioner<Scalar> {
@@ -36,6 +62,9 @@ class BlockJacobi final : public Preconditioner<Scalar> {
   const Scalar* inverse(int row) const { return m_inverse.data() + 9 * static_cast<std::size_t>(row); }
   /// \f$ D_r^{-1} v \f$ for the 3 values at `v`.
   std::array<Scalar, 3> times(int row, const Scalar* v) const { return block_times(inverse(row), v); }
+  /// One damped Jacobi step on rows [begin, end): \f$ x_r = \omega D_r^{-1} t_r \f$ (`first`) or
+  /// \f$ x_r \mathrel{+}= \omega D_r^{-1} t_r \f$.
+  void smooth_rows(const Scalar* t, Scalar omega, bool first, Scalar* x, int begin, int end) const;
 
  private:
   std::vector<Scalar> m_inverse;
@@ -60,6 +89,32 @@ bool BlockJacobi<Scalar>::invert_rows(const BlockSparseMatrix<Scalar>& a, const 
     if (!invert_block(values + 9 * diagonal[row], inverse)) regular = false;
   });
   return regular;
+}
+
+template <class Scalar>
+void BlockJacobi<Scalar>::smooth_rows(const Scalar* t, Scalar omega, bool first, Scalar* x, int begin, int end) const {
+#if DRAPE_AVX2_DISPATCH
+  if constexpr (std::is_same_v<Scalar, double>) {
+    if (instruction_set() == InstructionSet::Avx2) {
+      detail::jacobi_smooth_rows_avx2(m_inverse.data(), t, omega, first, x, begin, end);
+      return;
+    }
+  }
+#endif
+  for (int row = begin; row < end; ++row) {
+    const std::array<Scalar, 3> d = times(row, t + 3 * row);
+    const Scalar u0 = omega * d[0], u1 = omega * d[1], u2 = omega * d[2];
+    Scalar* xr = x + 3 * row;
+    if (first) {
+      xr[0] = u0;
+      xr[1] = u1;
+      xr[2] = u2;
+    } else {
+      xr[0] += u0;
+      xr[1] += u1;
+      xr[2] += u2;
+    }
+  }
 }
 
 template <class Scalar>

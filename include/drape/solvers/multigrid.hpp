@@ -70,8 +70,14 @@ class MultigridPreconditioner final : public Preconditioner<Scalar> {
   };
 
   const BlockSparseMatrix<Scalar>& matrix(int l) const { return l == 0 ? *m_fine : m_hierarchy.matrix(l); }
-  /// m_filtered = S A S + I - S for `system`'s constraints (the team shares the rows).
-  void filter_finest(const LinearSystem<Scalar>& system);
+  /// `target` = S `source` S + I - S for `system`'s constraints, block by block (the team shares
+  /// the rows; `target` has source's pattern and may be source itself).
+  static void filter(const LinearSystem<Scalar>& system, const BlockSparseMatrix<Scalar>& source,
+                     BlockSparseMatrix<Scalar>& target);
+  /// The operator level l >= 1 is summed from.
+  const BlockSparseMatrix<Scalar>& finer(int l) const {
+    return l == 1 && m_hierarchy.routed() ? m_hierarchy.routed_matrix() : matrix(l - 1);
+  }
   /// Level l's loops are shared by the team, or run by the one thread that calls them.
   bool team_level(int l) const { return m_hierarchy.rows(l) >= m_settings.min_team_rows; }
   const Scalar* rhs(int l) const { return l == 0 ? m_r_in : m_vectors[static_cast<std::size_t>(l)].b.data(); }
@@ -115,7 +121,7 @@ void MultigridPreconditioner<Scalar>::analyze(const LinearSystem<Scalar>& system
                           "block-jacobi, or multigrid for a system with LinearSystem::layout set "
                           "(JacobianAssembler::make_system() sets it)");
   m_settings.validate();
-  m_hierarchy.analyze(system.layout, system.matrix, m_settings.max_direct_rows);
+  m_hierarchy.analyze(system.layout, system.matrix, m_settings.max_direct_rows, m_settings.route_through_midpoints);
   const int levels = level_count();
   m_smoothers = std::vector<BlockJacobi<Scalar>>(static_cast<std::size_t>(levels));
   m_vectors.assign(static_cast<std::size_t>(levels), LevelVectors{});
@@ -153,19 +159,20 @@ bool MultigridPreconditioner<Scalar>::factorise_coarsest() {
 }
 
 template <class Scalar>
-void MultigridPreconditioner<Scalar>::filter_finest(const LinearSystem<Scalar>& system) {
+void MultigridPreconditioner<Scalar>::filter(const LinearSystem<Scalar>& system,
+                                             const BlockSparseMatrix<Scalar>& source,
+                                             BlockSparseMatrix<Scalar>& target) {
   const ConstraintFilter<Scalar>& c = system.constraints;
-  const BlockSparseMatrix<Scalar>& a = system.matrix;
-  const int* rb = a.row_begin().data();
-  const int* col = a.column().data();
-  team_for(a.block_rows(), [&](int r) {
+  const int* rb = source.row_begin().data();
+  const int* col = source.column().data();
+  team_for(source.block_rows(), [&](int r) {
     const bool row_free = c.kind(r) == ConstraintKind::Free;
     const Mat3<Scalar> s_r = c.filter(r);
     for (int k = rb[r]; k < rb[r + 1]; ++k) {
-      Mat3<Scalar> block = a.block(k);
+      Mat3<Scalar> block = source.block(k);
       if (!row_free || c.kind(col[k]) != ConstraintKind::Free) block = (s_r * block * c.filter(col[k])).eval();
       if (col[k] == r && !row_free) block += Mat3<Scalar>::Identity() - s_r;
-      m_filtered.block(k) = block;
+      target.block(k) = block;
     }
   });
 }
@@ -180,18 +187,34 @@ bool MultigridPreconditioner<Scalar>::update_in_team(const LinearSystem<Scalar>&
     m_fine = filtered ? &m_filtered : &system.matrix;
     m_failed.store(0, std::memory_order_relaxed);
   });  // the single's barrier publishes both
-  if (filtered) filter_finest(system);
+  if (filtered) filter(system, system.matrix, m_filtered);
+  // With constraints, the routed operator from A itself, then filtered like A: S A' S + I - S stays
+  // positive definite (routing the filtered blocks would mix the rows' projections). Without, level
+  // 1 is summed from A directly.
+  if (m_hierarchy.routed() && filtered) {
+    if (team_level(0))
+      m_hierarchy.route(system.matrix, true);
+    else
+      team_single([&] { m_hierarchy.route(system.matrix, false); });
+    filter(system, m_hierarchy.routed_matrix(), m_hierarchy.routed_matrix());
+  }
+  const auto galerkin = [&](int l, bool shared_level) {
+    if (l == 1 && m_hierarchy.routed() && !filtered)
+      m_hierarchy.galerkin_through_routing(system.matrix, shared_level);
+    else
+      m_hierarchy.galerkin(l, finer(l), shared_level);
+  };
   // The finest levels with the whole team, the small ones on one thread (in order: each level's
   // operator is summed from the finer one's).
   int shared = 0;
   while (shared < levels - 1 && team_level(shared)) ++shared;
   for (int l = 0; l < shared; ++l) {
-    if (l > 0) m_hierarchy.galerkin(l, matrix(l - 1), true);
+    if (l > 0) galerkin(l, true);
     if (!m_smoothers[static_cast<std::size_t>(l)].invert_rows(matrix(l), nullptr, true))
       m_failed.store(1, std::memory_order_relaxed);
   }
   team_single([&] {
-    for (int l = std::max(shared, 1); l < levels; ++l) m_hierarchy.galerkin(l, matrix(l - 1), false);
+    for (int l = std::max(shared, 1); l < levels; ++l) galerkin(l, false);
     for (int l = shared; l < levels - 1; ++l)
       if (!m_smoothers[static_cast<std::size_t>(l)].invert_rows(matrix(l), nullptr, false))
         m_failed.store(1, std::memory_order_relaxed);
@@ -223,23 +246,15 @@ void MultigridPreconditioner<Scalar>::residual(int l, const Scalar* b, const Sca
 
 template <class Scalar>
 void MultigridPreconditioner<Scalar>::smooth(int l, const Scalar* t, bool first, bool team) {
-  Scalar* x = iterate(l);
   const BlockJacobi<Scalar>& jacobi = m_smoothers[static_cast<std::size_t>(l)];
   const Scalar omega = Scalar(m_settings.omega);
-  team_for_if(team, m_hierarchy.rows(l), [&](int row) {
-    const std::array<Scalar, 3> d = jacobi.times(row, t + 3 * row);
-    const Scalar u0 = omega * d[0], u1 = omega * d[1], u2 = omega * d[2];
-    Scalar* xr = x + 3 * row;
-    if (first) {
-      xr[0] = u0;
-      xr[1] = u1;
-      xr[2] = u2;
-    } else {
-      xr[0] += u0;
-      xr[1] += u1;
-      xr[2] += u2;
-    }
-  });
+  if (team) {
+    const auto share = even_share(m_hierarchy.rows(l), team_rank(), team_size());
+    jacobi.smooth_rows(t, omega, first, iterate(l), int(share.first), int(share.second));
+    team_barrier();
+  } else {
+    jacobi.smooth_rows(t, omega, first, iterate(l), 0, m_hierarchy.rows(l));
+  }
 }
 
 template <class Scalar>

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -28,6 +29,7 @@
 #include "drape/core/validation.hpp"
 #include "drape/linalg/block_sparse_matrix.hpp"
 #include "drape/linalg/grid_layout.hpp"
+#include "drape/linalg/row_avx2.hpp"
 
 #if DRAPE_AVX2_DISPATCH
 #include <immintrin.h>
@@ -39,6 +41,10 @@ struct MultigridSettings {
   int sweeps = 1;            ///< block-Jacobi sweeps before and after the coarse correction
   double omega = 0.8;        ///< Jacobi weight, in (0, 1]
   int max_direct_rows = 16;  ///< coarsest level: at most this many block rows (dense Cholesky)
+  /// Coarse operators from the fine one with every coupling of nodes two apart along a lattice
+  /// line (bending) routed through the node between them (multigrid_hierarchy.hpp): 9 blocks per
+  /// coarse row instead of up to 25, the same CG iterations.
+  bool route_through_midpoints = true;
   /// Levels with fewer block rows run on one thread of the team: below this a loop costs less
   /// than the barriers around it.
   int min_team_rows = 2048;
@@ -54,6 +60,59 @@ struct MultigridSettings {
 };
 
 namespace detail {
+
+/// A weighted block of an operator's row: `weight` times block `block` of a matrix, at `column`.
+template <class Scalar>
+struct BlockTerm {
+  int column, block;
+  Scalar weight;
+};
+
+/// The rows of `a` (block rows on `layout`) as weighted blocks of a. Block k of row i stays at its
+/// column, unless `route` and it couples i to a node c two apart along a lattice line whose node m
+/// between them is in the system: then, with \f$ B = a_{ic} \f$, the coupling goes through m,
+/// like two springs of half the length and twice the stiffness in series: \f$ 2B \f$ at (i, m)
+/// and (m, c), \f$ -\tfrac12 (B + B^T) \f$ at (i, i) and \f$ -(B + B^T) \f$ at (m, m) (block
+/// (c, i) adds the mirror terms). For a spring coupling \f$ B = -C \f$ this is exactly the two
+/// springs of 2C: the operator stays symmetric and positive definite, keeps its row sums, and has
+/// the same energy for displacements linear along the line; its couplings reach one node only.
+template <class Scalar>
+std::vector<std::vector<BlockTerm<Scalar>>> operator_terms(const GridLayout& layout, const BlockSparseMatrix<Scalar>& a,
+                                                           bool route) {
+  const int rows = a.block_rows();
+  std::vector<std::vector<BlockTerm<Scalar>>> terms(static_cast<std::size_t>(rows));
+  std::vector<int> node_of_row(route ? static_cast<std::size_t>(rows) : 0, -1);
+  for (std::size_t n = 0; route && n < layout.row_of_node.size(); ++n)
+    if (layout.row_of_node[n] >= 0) node_of_row[static_cast<std::size_t>(layout.row_of_node[n])] = static_cast<int>(n);
+  const auto midpoint = [&](int i, int c) {
+    const int ni = node_of_row[static_cast<std::size_t>(i)], nc = node_of_row[static_cast<std::size_t>(c)];
+    const int di = nc % layout.nx - ni % layout.nx, dj = nc / layout.nx - ni / layout.nx;
+    if (!((std::abs(di) == 2 && dj == 0) || (di == 0 && std::abs(dj) == 2))) return -1;
+    return layout.row_of_node[static_cast<std::size_t>(ni + di / 2 + (dj / 2) * layout.nx)];
+  };
+  const int* rb = a.row_begin().data();
+  const int* col = a.column().data();
+  const int* transposed = a.transposed().data();
+  for (int i = 0; i < rows; ++i)
+    for (int k = rb[i]; k < rb[i + 1]; ++k) {
+      const int c = col[k];
+      const int m = route && c != i ? midpoint(i, c) : -1;
+      std::vector<BlockTerm<Scalar>>& row = terms[static_cast<std::size_t>(i)];
+      if (m < 0) {
+        row.push_back({c, k, Scalar(1)});
+        continue;
+      }
+      const int kt = transposed[k];  // block (c, i) = B^T
+      row.push_back({i, k, Scalar(-0.5)});
+      row.push_back({i, kt, Scalar(-0.5)});
+      row.push_back({m, k, Scalar(2)});
+      std::vector<BlockTerm<Scalar>>& middle = terms[static_cast<std::size_t>(m)];
+      middle.push_back({c, k, Scalar(2)});
+      middle.push_back({m, k, Scalar(-1)});
+      middle.push_back({m, kt, Scalar(-1)});
+    }
+  return terms;
+}
 
 /// One lattice direction of n nodes coarsened: coarse nodes at the even indices and the last one.
 struct CoarseAxis {
@@ -135,16 +194,99 @@ __attribute__((target("avx2"))) inline void galerkin_blocks_avx2(const int* uppe
     store_coarse_block(s, upper[u], transposed, coarse);
   }
 }
+
+/// MultigridHierarchy's transfers for double with AVX2, rows [begin, end) of `to`: the weighted sum
+/// of `from`'s rows [index_begin[r], index_begin[r + 1]) of (index_row, index_weight), stored
+/// (`add` false: restriction) or added (prolongation); the baseline's order, no FMA.
+__attribute__((target("avx2"))) inline void transfer_rows_avx2(const int* index_begin, const int* index_row,
+                                                               const double* index_weight, const double* from,
+                                                               double* to, bool add, int begin, int end) {
+  for (int r = begin; r < end; ++r) {
+    __m256d s = _mm256_setzero_pd();
+    for (int e = index_begin[r]; e < index_begin[r + 1]; ++e) {
+      const __m256d v = load_row3_avx2(from + 3 * index_row[e]);
+      s = _mm256_add_pd(s, _mm256_mul_pd(_mm256_broadcast_sd(index_weight + e), v));
+    }
+    store_row3_avx2(to + 3 * r, s, add);
+  }
+}
 }  // namespace detail
 #endif
+
+namespace detail {
+/// Blocks of one matrix as fixed weighted sums of another's: block upper[u] (on or above the
+/// diagonal; its transpose is stored with it) = sum over e in [begin[u], begin[u+1]) of
+/// weight[e] * (source block block[e]).
+template <class Scalar>
+struct BlockSums {
+  std::vector<int> upper, begin, block;
+  std::vector<Scalar> weight;
+};
+
+/// The pattern of `target` rows and the sums giving its blocks from the source's: target block
+/// (ci, cj) sums `t.weight wi wj` times source block t.block for every term t of source row i at
+/// column j, (ci, wi) in parent[i], (cj, wj) in parent[j]. A source block in several terms of one
+/// target block gets one weight (their sum).
+template <class Scalar>
+std::pair<BlockSparseMatrix<Scalar>, BlockSums<Scalar>> block_sums(
+    const std::vector<std::vector<BlockTerm<Scalar>>>& terms,
+    const std::vector<std::vector<std::pair<int, Scalar>>>& parent, int target_rows) {
+  const int source_rows = static_cast<int>(terms.size());
+  std::vector<std::vector<int>> columns(static_cast<std::size_t>(target_rows));
+  for (int i = 0; i < source_rows; ++i)
+    for (const BlockTerm<Scalar>& t : terms[static_cast<std::size_t>(i)])
+      for (const auto& pi : parent[static_cast<std::size_t>(i)])
+        for (const auto& pj : parent[static_cast<std::size_t>(t.column)])
+          columns[static_cast<std::size_t>(pi.first)].push_back(pj.first);
+  BlockSparseMatrix<Scalar> target(std::move(columns));
+  // Terms of every target block on or above the diagonal, grouped by target block (counting sort:
+  // count, then fill).
+  std::vector<int> first(static_cast<std::size_t>(target.block_count()) + 1, 0);
+  const auto for_each_term = [&](auto&& term) {
+    for (int i = 0; i < source_rows; ++i)
+      for (const BlockTerm<Scalar>& t : terms[static_cast<std::size_t>(i)])
+        for (const auto& [ci, wi] : parent[static_cast<std::size_t>(i)])
+          for (const auto& [cj, wj] : parent[static_cast<std::size_t>(t.column)])
+            if (ci <= cj) term(target.find(ci, cj), t.block, t.weight * wi * wj);
+  };
+  for_each_term([&](int cb, int, Scalar) { ++first[static_cast<std::size_t>(cb) + 1]; });
+  for (std::size_t cb = 0; cb + 1 < first.size(); ++cb) first[cb + 1] += first[cb];
+  std::vector<int> fill(first.begin(), first.end() - 1);
+  std::vector<std::pair<int, Scalar>> term(static_cast<std::size_t>(first.back()));  // (source block, weight)
+  for_each_term([&](int cb, int k, Scalar w) {
+    term[static_cast<std::size_t>(fill[static_cast<std::size_t>(cb)]++)] = {k, w};
+  });
+  BlockSums<Scalar> sums;
+  sums.begin.push_back(0);
+  for (int cb = 0; cb < target.block_count(); ++cb) {
+    const auto begin = term.begin() + first[static_cast<std::size_t>(cb)];
+    const auto end = term.begin() + first[static_cast<std::size_t>(cb) + 1];
+    if (begin == end) continue;
+    std::stable_sort(begin, end, [](const auto& x, const auto& y) { return x.first < y.first; });
+    sums.upper.push_back(cb);
+    for (auto t = begin; t != end; ++t) {
+      if (t != begin && t->first == sums.block.back()) {
+        sums.weight.back() += t->second;
+        continue;
+      }
+      sums.block.push_back(t->first);
+      sums.weight.push_back(t->second);
+    }
+    sums.begin.push_back(static_cast<int>(sums.block.size()));
+  }
+  return {std::move(target), std::move(sums)};
+}
+}  // namespace detail
 
 template <class Scalar = double>
 class MultigridHierarchy {
  public:
   /// Builds the levels for matrices with `fine`'s pattern whose block rows sit on `layout`; level 0
-  /// is `fine` itself (not copied). \throws InvalidParameter if the layout does not describe
-  /// `fine`'s rows or `max_direct_rows` is out of range.
-  void analyze(const GridLayout& layout, const BlockSparseMatrix<Scalar>& fine, int max_direct_rows);
+  /// is `fine` itself (not copied). With `route_through_midpoints` (MultigridSettings), level 1 is
+  /// summed from the routed operator (routed_matrix()) instead of `fine`. \throws InvalidParameter if
+  /// the layout does not describe `fine`'s rows.
+  void analyze(const GridLayout& layout, const BlockSparseMatrix<Scalar>& fine, int max_direct_rows,
+               bool route_through_midpoints = true);
 
   bool analyzed() const { return !m_levels.empty(); }
   int level_count() const { return static_cast<int>(m_levels.size()); }
@@ -156,8 +298,23 @@ class MultigridHierarchy {
   /// tests and diagnostics).
   Eigen::SparseMatrix<Scalar> prolongation(int l) const;
 
-  /// Level l's operator (l >= 1) from `finer`, the operator of level l - 1. Shared by the team if
-  /// `shared` (see team_for_if()).
+  /// True if level 1 is summed from the routed operator (there are coarse levels and analyze() was
+  /// asked to route).
+  bool routed() const { return !m_route.upper.empty(); }
+  /// The fine operator with its couplings two apart routed through midpoints
+  /// (detail::operator_terms()), after route(); the caller may filter it in place.
+  const BlockSparseMatrix<Scalar>& routed_matrix() const { return m_routed; }
+  BlockSparseMatrix<Scalar>& routed_matrix() { return m_routed; }
+  /// routed_matrix() from the values of `fine` (level 0's pattern). Shared by the team if `shared`.
+  void route(const BlockSparseMatrix<Scalar>& fine, bool shared);
+  /// If routed(): level 1's operator straight from level 0's values `fine`, the routing folded into
+  /// the Galerkin weights (the same operator as route() then galerkin(1), without the pass over the
+  /// routed matrix; for a fine operator that needs no filtering in between).
+  void galerkin_through_routing(const BlockSparseMatrix<Scalar>& fine, bool shared) {
+    sum_blocks(m_levels[1].galerkin_through_routing, fine, m_levels[1].a, shared);
+  }
+  /// Level l's operator (l >= 1) from `finer`: the operator of level l - 1, or for l = 1 the routed
+  /// one if routed(). Shared by the team if `shared` (see team_for_if()).
   void galerkin(int l, const BlockSparseMatrix<Scalar>& finer, bool shared);
   /// `coarse = R fine` from level l - 1 to level l (l >= 1).
   void restrict_to(int l, const Scalar* fine, Scalar* coarse, bool shared) const;
@@ -174,14 +331,22 @@ class MultigridHierarchy {
     // Restriction (the transpose): per row of this level, (r_row, r_weight) on the finer level.
     std::vector<int> r_begin, r_row;
     std::vector<Scalar> r_weight;
-    // Galerkin sums: block upper[u] of this level = sum over [g_begin[u], g_begin[u+1]) of
-    // g_weight * (finer level's block g_block).
-    std::vector<int> upper, g_begin, g_block;
-    std::vector<Scalar> g_weight;
+    detail::BlockSums<Scalar> galerkin;                  // this level's blocks from the finer level's
+    detail::BlockSums<Scalar> galerkin_through_routing;  // level 1 if routed(): from level 0's blocks
     int rows = 0;
   };
+  /// Rows [0, rows) of `to` = (`add`: plus) the weighted sums of `from`'s rows listed per row
+  /// (restriction and prolongation). Shared by the team if `shared`.
+  static void transfer(const std::vector<int>& index_begin, const std::vector<int>& index_row,
+                       const std::vector<Scalar>& index_weight, const Scalar* from, Scalar* to, bool add, int rows,
+                       bool shared);
+  /// `target`'s blocks from `source` by `sums`.
+  static void sum_blocks(const detail::BlockSums<Scalar>& sums, const BlockSparseMatrix<Scalar>& source,
+                         BlockSparseMatrix<Scalar>& target, bool shared);
 
   std::vector<Level> m_levels;
+  BlockSparseMatrix<Scalar> m_routed;  // level 0 routed (empty unless routed())
+  detail::BlockSums<Scalar> m_route;   // m_routed's blocks from level 0's
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -204,7 +369,7 @@ Eigen::SparseMatrix<Scalar> MultigridHierarchy<Scalar>::prolongation(int l) cons
 
 template <class Scalar>
 void MultigridHierarchy<Scalar>::analyze(const GridLayout& layout, const BlockSparseMatrix<Scalar>& a,
-                                         int max_direct_rows) {
+                                         int max_direct_rows, bool route_through_midpoints) {
   if (layout.nx < 1 || layout.ny < 1 ||
       layout.row_of_node.size() != static_cast<std::size_t>(layout.nx) * static_cast<std::size_t>(layout.ny))
     detail::fail_argument("grid layout", detail::to_text(layout.row_of_node.size()) + " nodes",
@@ -221,6 +386,19 @@ void MultigridHierarchy<Scalar>::analyze(const GridLayout& layout, const BlockSp
   m_levels[0].rows = a.block_rows();
   GridLayout fine = layout;
   const BlockSparseMatrix<Scalar>* fine_matrix = &a;
+  m_routed = BlockSparseMatrix<Scalar>();
+  m_route = {};
+  if (route_through_midpoints && rows > max_direct_rows) {
+    const std::vector<std::vector<std::pair<int, Scalar>>> itself = [&] {
+      std::vector<std::vector<std::pair<int, Scalar>>> parent(static_cast<std::size_t>(rows));
+      for (int r = 0; r < rows; ++r) parent[static_cast<std::size_t>(r)] = {{r, Scalar(1)}};
+      return parent;
+    }();
+    auto [matrix, sums] = detail::block_sums(detail::operator_terms(layout, a, true), itself, rows);
+    m_routed = std::move(matrix);
+    m_route = std::move(sums);
+    fine_matrix = &m_routed;
+  }
   while (m_levels.back().rows > max_direct_rows) {
     const detail::CoarseAxis ax = detail::coarsen_axis(fine.nx), ay = detail::coarsen_axis(fine.ny);
     if (!ax.halves() && !ay.halves()) break;
@@ -274,67 +452,49 @@ void MultigridHierarchy<Scalar>::analyze(const GridLayout& layout, const BlockSp
       }
       level.r_begin.push_back(static_cast<int>(level.r_row.size()));
     }
-    // Coarse pattern: (ci, cj) for every fine block (i, j) and coarse parents ci of i, cj of j.
-    const std::vector<int>& frb = fine_matrix->row_begin();
-    const std::vector<int>& fcol = fine_matrix->column();
-    std::vector<std::vector<int>> columns(static_cast<std::size_t>(coarse_rows));
-    for (int i = 0; i < fine_rows; ++i)
-      for (int k = frb[static_cast<std::size_t>(i)]; k < frb[static_cast<std::size_t>(i) + 1]; ++k)
-        for (const auto& pi : p[static_cast<std::size_t>(i)])
-          for (const auto& pj : p[static_cast<std::size_t>(fcol[static_cast<std::size_t>(k)])])
-            columns[static_cast<std::size_t>(pi.first)].push_back(pj.first);
-    level.a = BlockSparseMatrix<Scalar>(std::move(columns));
-    // Galerkin weights of every coarse block on or above the diagonal, grouped by coarse block
-    // (counting sort: count, then fill).
-    std::vector<int> first(static_cast<std::size_t>(level.a.block_count()) + 1, 0);
-    const auto for_each_term = [&](auto&& term) {
-      for (int i = 0; i < fine_rows; ++i)
-        for (int k = frb[static_cast<std::size_t>(i)]; k < frb[static_cast<std::size_t>(i) + 1]; ++k)
-          for (const auto& [ci, wi] : p[static_cast<std::size_t>(i)])
-            for (const auto& [cj, wj] : p[static_cast<std::size_t>(fcol[static_cast<std::size_t>(k)])])
-              if (ci <= cj) term(level.a.find(ci, cj), k, wi * wj);
-    };
-    for_each_term([&](int cb, int, Scalar) { ++first[static_cast<std::size_t>(cb) + 1]; });
-    for (std::size_t cb = 0; cb + 1 < first.size(); ++cb) first[cb + 1] += first[cb];
-    std::vector<int> fill(first.begin(), first.end() - 1);
-    std::vector<int> term_block(static_cast<std::size_t>(first.back()));
-    std::vector<Scalar> term_weight(static_cast<std::size_t>(first.back()));
-    for_each_term([&](int cb, int k, Scalar w) {
-      const int at = fill[static_cast<std::size_t>(cb)]++;
-      term_block[static_cast<std::size_t>(at)] = k;
-      term_weight[static_cast<std::size_t>(at)] = w;
-    });
-    level.g_begin.push_back(0);
-    for (int cb = 0; cb < level.a.block_count(); ++cb) {
-      if (first[static_cast<std::size_t>(cb)] == first[static_cast<std::size_t>(cb) + 1]) continue;
-      level.upper.push_back(cb);
-      level.g_block.insert(level.g_block.end(), term_block.begin() + first[static_cast<std::size_t>(cb)],
-                           term_block.begin() + first[static_cast<std::size_t>(cb) + 1]);
-      level.g_weight.insert(level.g_weight.end(), term_weight.begin() + first[static_cast<std::size_t>(cb)],
-                            term_weight.begin() + first[static_cast<std::size_t>(cb) + 1]);
-      level.g_begin.push_back(static_cast<int>(level.g_block.size()));
-    }
+    // Level l's operator is P^T A P of the finer one (of the routed operator for level 1).
+    auto [matrix, sums] = detail::block_sums(detail::operator_terms(fine, *fine_matrix, false), p, coarse_rows);
+    level.a = std::move(matrix);
+    level.galerkin = std::move(sums);
+    if (fine_matrix == &m_routed)  // the same pattern: the routed operator's couplings
+      level.galerkin_through_routing =
+          detail::block_sums(detail::operator_terms(layout, a, true), p, coarse_rows).second;
     m_levels.push_back(std::move(level));
     fine_matrix = &m_levels.back().a;
     fine = std::move(coarse);
+  }
+  if (m_levels.size() == 1) {  // no coarse level to sum from the routed operator
+    m_routed = BlockSparseMatrix<Scalar>();
+    m_route = {};
   }
 }
 
 template <class Scalar>
 void MultigridHierarchy<Scalar>::galerkin(int l, const BlockSparseMatrix<Scalar>& finer, bool shared) {
   Level& level = m_levels[static_cast<std::size_t>(l)];
-  const Scalar* fine = finer.values();
-  Scalar* coarse = level.a.values();
-  const int* transposed = level.a.transposed().data();
-  const int count = static_cast<int>(level.upper.size());
+  sum_blocks(level.galerkin, finer, level.a, shared);
+}
+
+template <class Scalar>
+void MultigridHierarchy<Scalar>::route(const BlockSparseMatrix<Scalar>& fine, bool shared) {
+  sum_blocks(m_route, fine, m_routed, shared);
+}
+
+template <class Scalar>
+void MultigridHierarchy<Scalar>::sum_blocks(const detail::BlockSums<Scalar>& sums,
+                                            const BlockSparseMatrix<Scalar>& source, BlockSparseMatrix<Scalar>& target,
+                                            bool shared) {
+  const Scalar* fine = source.values();
+  Scalar* coarse = target.values();
+  const int* transposed = target.transposed().data();
+  const int count = static_cast<int>(sums.upper.size());
 #if DRAPE_AVX2_DISPATCH
   if constexpr (std::is_same_v<Scalar, double>) {
     if (instruction_set() == InstructionSet::Avx2) {
       const auto share =
           shared ? even_share(count, team_rank(), team_size()) : std::pair<long long, long long>{0, count};
-      detail::galerkin_blocks_avx2(level.upper.data(), level.g_begin.data(), level.g_block.data(),
-                                   level.g_weight.data(), transposed, fine, coarse, int(share.first),
-                                   int(share.second));
+      detail::galerkin_blocks_avx2(sums.upper.data(), sums.begin.data(), sums.block.data(), sums.weight.data(),
+                                   transposed, fine, coarse, int(share.first), int(share.second));
       if (shared) team_barrier();
       return;
     }
@@ -342,49 +502,57 @@ void MultigridHierarchy<Scalar>::galerkin(int l, const BlockSparseMatrix<Scalar>
 #endif
   team_for_if(shared, count, [&](int u) {
     Scalar s[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    for (int e = level.g_begin[static_cast<std::size_t>(u)]; e < level.g_begin[static_cast<std::size_t>(u) + 1]; ++e) {
-      const Scalar w = level.g_weight[static_cast<std::size_t>(e)];
-      const Scalar* f = fine + 9 * level.g_block[static_cast<std::size_t>(e)];
+    for (int e = sums.begin[static_cast<std::size_t>(u)]; e < sums.begin[static_cast<std::size_t>(u) + 1]; ++e) {
+      const Scalar w = sums.weight[static_cast<std::size_t>(e)];
+      const Scalar* f = fine + 9 * sums.block[static_cast<std::size_t>(e)];
       for (int q = 0; q < 9; ++q) s[q] += w * f[q];
     }
-    detail::store_coarse_block(s, level.upper[static_cast<std::size_t>(u)], transposed, coarse);
+    detail::store_coarse_block(s, sums.upper[static_cast<std::size_t>(u)], transposed, coarse);
   });
 }
 
 template <class Scalar>
 void MultigridHierarchy<Scalar>::restrict_to(int l, const Scalar* fine, Scalar* coarse, bool shared) const {
   const Level& level = m_levels[static_cast<std::size_t>(l)];
-  team_for_if(shared, level.rows, [&](int rc) {
-    Scalar s0 = 0, s1 = 0, s2 = 0;
-    for (int e = level.r_begin[static_cast<std::size_t>(rc)]; e < level.r_begin[static_cast<std::size_t>(rc) + 1];
-         ++e) {
-      const Scalar w = level.r_weight[static_cast<std::size_t>(e)];
-      const Scalar* tf = fine + 3 * level.r_row[static_cast<std::size_t>(e)];
-      // One line per 3-vector:
-      // clang-format off
-      s0 += w * tf[0]; s1 += w * tf[1]; s2 += w * tf[2];
-    }
-    coarse[3 * rc] = s0; coarse[3 * rc + 1] = s1; coarse[3 * rc + 2] = s2;
-    // clang-format on
-  });
+  transfer(level.r_begin, level.r_row, level.r_weight, fine, coarse, false, level.rows, shared);
 }
 
 template <class Scalar>
 void MultigridHierarchy<Scalar>::prolong_add(int l, const Scalar* coarse, Scalar* fine, bool shared) const {
   const Level& level = m_levels[static_cast<std::size_t>(l)];
-  team_for_if(shared, m_levels[static_cast<std::size_t>(l) - 1].rows, [&](int rf) {
+  transfer(level.p_begin, level.p_row, level.p_weight, coarse, fine, true,
+           m_levels[static_cast<std::size_t>(l) - 1].rows, shared);
+}
+
+template <class Scalar>
+void MultigridHierarchy<Scalar>::transfer(const std::vector<int>& index_begin, const std::vector<int>& index_row,
+                                          const std::vector<Scalar>& index_weight, const Scalar* from, Scalar* to,
+                                          bool add, int rows, bool shared) {
+  const auto share = shared ? even_share(rows, team_rank(), team_size()) : std::pair<long long, long long>{0, rows};
+  const int begin = int(share.first), end = int(share.second);
+#if DRAPE_AVX2_DISPATCH
+  if constexpr (std::is_same_v<Scalar, double>) {
+    if (instruction_set() == InstructionSet::Avx2) {
+      detail::transfer_rows_avx2(index_begin.data(), index_row.data(), index_weight.data(), from, to, add, begin, end);
+      if (shared) team_barrier();
+      return;
+    }
+  }
+#endif
+  for (int r = begin; r < end; ++r) {
     Scalar s0 = 0, s1 = 0, s2 = 0;
-    for (int e = level.p_begin[static_cast<std::size_t>(rf)]; e < level.p_begin[static_cast<std::size_t>(rf) + 1];
-         ++e) {
-      const Scalar w = level.p_weight[static_cast<std::size_t>(e)];
-      const Scalar* c = coarse + 3 * level.p_row[static_cast<std::size_t>(e)];
+    for (int e = index_begin[static_cast<std::size_t>(r)]; e < index_begin[static_cast<std::size_t>(r) + 1]; ++e) {
+      const Scalar w = index_weight[static_cast<std::size_t>(e)];
+      const Scalar* f = from + 3 * index_row[static_cast<std::size_t>(e)];
       // One line per 3-vector:
       // clang-format off
-      s0 += w * c[0]; s1 += w * c[1]; s2 += w * c[2];
+      s0 += w * f[0]; s1 += w * f[1]; s2 += w * f[2];
     }
-    fine[3 * rf] += s0; fine[3 * rf + 1] += s1; fine[3 * rf + 2] += s2;
+    Scalar* t = to + 3 * r;
+    if (add) { t[0] += s0; t[1] += s1; t[2] += s2; } else { t[0] = s0; t[1] = s1; t[2] = s2; }
     // clang-format on
-  });
+  }
+  if (shared) team_barrier();
 }
 
 }  // namespace drape

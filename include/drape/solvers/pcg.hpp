@@ -39,7 +39,8 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
   /// Block rows per thread below which a second thread is not woken.
   static constexpr long long min_rows_per_thread = 3000;
 
-  explicit PcgSolver(const IterativeSettings& settings = {});
+  /// `multigrid`: the V-cycle's settings if settings.preconditioner is multigrid.
+  explicit PcgSolver(const IterativeSettings& settings = {}, const MultigridSettings& multigrid = {});
 
   /// \throws InvalidParameter if the multigrid preconditioner is chosen for a system without a
   /// lattice layout (or with one that does not match its matrix).
@@ -65,9 +66,10 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-PcgSolver<Scalar>::PcgSolver(const IterativeSettings& settings) : m_settings(settings) {
+PcgSolver<Scalar>::PcgSolver(const IterativeSettings& settings, const MultigridSettings& multigrid)
+    : m_settings(settings) {
   if (settings.preconditioner == PreconditionerKind::Multigrid)
-    m_preconditioner = std::make_unique<MultigridPreconditioner<Scalar>>();
+    m_preconditioner = std::make_unique<MultigridPreconditioner<Scalar>>(multigrid);
   else
     m_preconditioner = std::make_unique<BlockJacobi<Scalar>>();
 }
