@@ -416,7 +416,7 @@ def dispatch_section(results):
         return []
     return ["## Run-time instruction set: the AVX2 loops", "",
             "The explicit steps' spring and node passes, and the implicit solver's assembly (symmetric "
-            "variants), edge product, multigrid residual and Galerkin sums, have AVX2 versions chosen at run "
+            "variants), edge product, multigrid residual, smoothing, transfers and Galerkin sums, have AVX2 versions chosen at run "
             "time when the CPU has them "
             "(include/drape/core/instruction_set.hpp; the build itself targets plain x86-64). Both versions "
             "give the same bits (tests/core/test_instruction_set.cpp). `drape-sse2` is the same step with "
