@@ -21,7 +21,9 @@
 ///   constrained rows are identity rows on the finest level and their coupling is gone from the
 ///   coarse operators; CG filters the cycle's output (pcg.hpp). Built from A itself, the cycle
 ///   kept correcting constrained unknowns through the coarse levels: 94 instead of ~16 CG
-///   iterations per step with moving pins, 2-3x with contacts (bench/analysis.md).
+///   iterations per step with moving pins, 2-3x with contacts (bench/analysis.md). With routing
+///   (multigrid_hierarchy.hpp), level 1 is summed from \f$ S A' S + I - S \f$, the routed
+///   operator filtered the same way.
 
 #include <algorithm>
 #include <atomic>

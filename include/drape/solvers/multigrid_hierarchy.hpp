@@ -14,6 +14,11 @@
 ///   matrix is symmetric, so only blocks on or above the diagonal are summed and the others are
 ///   their transposes. Coarse operators therefore follow the deformation exactly and stay
 ///   symmetric positive definite.
+/// - Routing (`route_through_midpoints`, the default): level 1 is \f$ P^T A' P \f$ with \f$ A' \f$
+///   the fine operator whose couplings of nodes two apart along a line (bending) go through the
+///   node between them (detail::operator_terms()): the same energy for motion linear along the
+///   line, couplings to the 8 neighbours only, so every coarse operator has at most 9 blocks per
+///   row instead of up to 25, and CG needs the same iterations (docs/implicit.md).
 
 #include <algorithm>
 #include <array>
