@@ -173,9 +173,13 @@ TEST_CASE("the edge product gives the same bits with AVX2 and without, and A x",
   bool unaligned = false;
   for (int c : system.edges.colour_begin()) unaligned = unaligned || c % EdgeOperator<double>::group != 0;
   REQUIRE(unaligned);
-  // Groups whose rows are consecutive (springs along j) load whole vectors, the others gather.
-  REQUIRE(system.edges.contiguous_groups() > 0);
-  REQUIRE(system.edges.contiguous_groups() < system.edges.edge_count() / EdgeOperator<double>::group);
+  // Groups of every shape (edge_operator.hpp): consecutive rows (springs along j) and pairs in one
+  // window of eight rows (structural and bend springs along i) load whole vectors, the rest gather.
+  for (GroupShape shape :
+       {GroupShape::Gathered, GroupShape::Consecutive, GroupShape::AdjacentPairs, GroupShape::TwoApartPairs}) {
+    INFO("group shape " << int(shape));
+    REQUIRE(system.edges.group_count(shape) > 0);
+  }
   const VectorX<double> p = VectorX<double>::Random(system.size());
   const VectorX<double> dense = system.matrix.to_dense() * p;
   InstructionSetScope scope;

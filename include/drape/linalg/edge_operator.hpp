@@ -12,9 +12,12 @@
 /// - Structure (set once): the two block rows of every edge (-1 for an end that is not in the
 ///   system: its unknowns are zero), the edges grouped in colours in which no two edges share a row
 ///   (so threads scatter without races and in a fixed order), the diagonal `m_r` of every row.
-///   A group of four edges whose first rows are consecutive, and so are their second rows, is
-///   *contiguous* (contiguous_groups()): the AVX2 product loads and stores its rows as whole
-///   vectors instead of row by row (a cloth's springs along j come this way, core/spring_set.hpp).
+///   Each group of four edges has a shape (GroupShape, group_count()) that tells the AVX2 product
+///   how to reach its rows: `Consecutive` (first rows consecutive, and so are the second rows: a
+///   cloth's springs along j, core/spring_set.hpp), `AdjacentPairs` (the four edges join rows
+///   a, a+1; a+2, a+3; ... of one window of eight: structural springs along i) and `TwoApartPairs`
+///   (rows a, a+2; a+1, a+3; a+4, a+6; a+5, a+7: bend springs along i) load and store whole vectors
+///   of the window; `Gathered` groups are read and written row by row.
 /// - Values (written by whoever assembles the system, e.g. JacobianAssembler): each edge's \f$ C_e \f$
 ///   takes stride() scalars: 9 (column-major) in general, 6 when every \f$ C_e \f$ is symmetric
 ///   (lower triangle row by row, block3.hpp), a third fewer bytes. values() keeps the edges in
@@ -44,6 +47,9 @@
 
 namespace drape {
 
+/// How the rows of a group of four edges lie (see the file comment).
+enum class GroupShape : char { Gathered = 0, Consecutive = 1, AdjacentPairs = 2, TwoApartPairs = 3 };
+
 template <class Scalar = double>
 class EdgeOperator {
  public:
@@ -54,8 +60,9 @@ class EdgeOperator {
       : m_edge_rows(std::move(edge_rows)),
         m_colour_begin(std::move(colour_begin)),
         m_row_mass(std::move(row_mass)),
+        m_component_mass(per_component(m_row_mass)),
         m_values(9 * padded(m_edge_rows.size() / 2), Scalar(0)),
-        m_contiguous(find_contiguous_groups(m_edge_rows)) {}
+        m_group_shape(find_group_shapes(m_edge_rows)) {}
 
   /// Edges per group of values() (see value_index()).
   static constexpr int group = 4;
@@ -69,8 +76,10 @@ class EdgeOperator {
   const std::vector<int>& edge_rows() const { return m_edge_rows; }
   const std::vector<int>& colour_begin() const { return m_colour_begin; }
   const std::vector<Scalar>& row_mass() const { return m_row_mass; }
-  /// Groups of four edges (edges [4g, 4g + 4)) whose rows are consecutive (see the file comment).
-  int contiguous_groups() const { return static_cast<int>(std::count(m_contiguous.begin(), m_contiguous.end(), 1)); }
+  /// Groups of four edges (edges [4g, 4g + 4)) of the given shape (see the file comment).
+  int group_count(GroupShape shape) const {
+    return static_cast<int>(std::count(m_group_shape.begin(), m_group_shape.end(), shape));
+  }
 
   /// True if the values describe the current matrix (see the file comment).
   bool valid() const { return m_valid; }
@@ -118,8 +127,15 @@ class EdgeOperator {
 
  private:
   static std::size_t padded(std::size_t edges) { return (edges + group - 1) / group * group; }
-  /// Per group of four edges: 1 if both ends of its edges are consecutive rows of the system.
-  static std::vector<char> find_contiguous_groups(const std::vector<int>& edge_rows);
+  /// Every row's value three times, once per component: the diagonal pass then runs over 3n
+  /// values in one vectorised loop instead of row by row.
+  static std::vector<Scalar> per_component(const std::vector<Scalar>& row_values) {
+    std::vector<Scalar> out(3 * row_values.size());
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = row_values[i / 3];
+    return out;
+  }
+  /// The shape of every whole group of four edges.
+  static std::vector<GroupShape> find_group_shapes(const std::vector<int>& edge_rows);
   /// `y += sum_e +-C_e (x_a - x_b)` over the edges in colour order.
   template <bool Symmetric>
   void add_edge_products(const Scalar* x, Scalar* y) const;
@@ -134,8 +150,8 @@ class EdgeOperator {
   bool fold_isotropic_row_blocks();
 
   std::vector<int> m_edge_rows, m_colour_begin;
-  std::vector<Scalar> m_row_mass, m_values, m_row_blocks, m_row_diagonal;
-  std::vector<char> m_contiguous;
+  std::vector<Scalar> m_row_mass, m_component_mass, m_values, m_row_blocks, m_row_diagonal, m_component_diagonal;
+  std::vector<GroupShape> m_group_shape;
   bool m_valid = false;
   bool m_symmetric = false;
   bool m_use_row_blocks = false;
@@ -145,17 +161,25 @@ class EdgeOperator {
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-std::vector<char> EdgeOperator<Scalar>::find_contiguous_groups(const std::vector<int>& edge_rows) {
+std::vector<GroupShape> EdgeOperator<Scalar>::find_group_shapes(const std::vector<int>& edge_rows) {
   const int edges = static_cast<int>(edge_rows.size() / 2);
-  std::vector<char> contiguous(static_cast<std::size_t>(edges / group), 0);
+  std::vector<GroupShape> shapes(static_cast<std::size_t>(edges / group), GroupShape::Gathered);
+  constexpr int two_apart_offset[group] = {0, 1, 4, 5};
   for (int g = 0; g < edges / group; ++g) {
     const int* rows = edge_rows.data() + 2 * group * g;
-    bool consecutive = rows[0] >= 0 && rows[1] >= 0;
-    for (int k = 1; k < group; ++k)
-      consecutive = consecutive && rows[2 * k] == rows[0] + k && rows[2 * k + 1] == rows[1] + k;
-    contiguous[static_cast<std::size_t>(g)] = consecutive ? 1 : 0;
+    const int a = rows[0];
+    bool consecutive = a >= 0 && rows[1] >= 0, adjacent = a >= 0, two_apart = a >= 0;
+    for (int k = 0; k < group; ++k) {
+      consecutive = consecutive && rows[2 * k] == a + k && rows[2 * k + 1] == rows[1] + k;
+      adjacent = adjacent && rows[2 * k] == a + 2 * k && rows[2 * k + 1] == a + 2 * k + 1;
+      two_apart = two_apart && rows[2 * k] == a + two_apart_offset[k] && rows[2 * k + 1] == a + two_apart_offset[k] + 2;
+    }
+    shapes[static_cast<std::size_t>(g)] = consecutive  ? GroupShape::Consecutive
+                                          : adjacent   ? GroupShape::AdjacentPairs
+                                          : two_apart  ? GroupShape::TwoApartPairs
+                                                       : GroupShape::Gathered;
   }
-  return contiguous;
+  return shapes;
 }
 
 template <class Scalar>
@@ -165,6 +189,8 @@ bool EdgeOperator<Scalar>::fold_isotropic_row_blocks() {
     if (b[1] != 0 || b[2] != 0 || b[3] != 0 || b[5] != 0 || b[6] != 0 || b[7] != 0 || b[4] != b[0] || b[8] != b[0])
       return false;
   for (std::size_t r = 0; r < m_row_mass.size(); ++r) m_row_diagonal[r] = m_row_mass[r] + m_row_blocks[9 * r];
+  m_component_diagonal.resize(3 * m_row_diagonal.size());
+  for (std::size_t i = 0; i < m_component_diagonal.size(); ++i) m_component_diagonal[i] = m_row_diagonal[i / 3];
   return true;
 }
 
@@ -180,11 +206,11 @@ void EdgeOperator<Scalar>::multiply_in_team(const Scalar* x, Scalar* y) const {
       y[3 * r + 2] = mass[r] * x[3 * r + 2] + t[2];
     });
   } else {
-    team_for(rows(), [&](int r) {
-      y[3 * r] = mass[r] * x[3 * r];
-      y[3 * r + 1] = mass[r] * x[3 * r + 1];
-      y[3 * r + 2] = mass[r] * x[3 * r + 2];
-    });
+    const Scalar* diagonal = m_use_row_diagonal ? m_component_diagonal.data() : m_component_mass.data();
+    const auto share = even_share(3LL * rows(), team_rank(), team_size());
+    DRAPE_OMP_SIMD
+    for (long long i = share.first; i < share.second; ++i) y[i] = diagonal[i] * x[i];
+    team_barrier();
   }
   if (m_symmetric)
     add_edge_products<true>(x, y);
@@ -303,6 +329,87 @@ __attribute__((target("avx2"), always_inline)) inline void update_consecutive_ro
   _mm256_storeu_pd(yb + 4, _mm256_sub_pd(_mm256_loadu_pd(yb + 4), t1));
   _mm256_storeu_pd(yb + 8, _mm256_sub_pd(_mm256_loadu_pd(yb + 8), t2));
 }
+/// Four rows' differences (x, y, z, unused) as one vector per component (a 4 x 3 transpose).
+__attribute__((target("avx2"), always_inline)) inline void transpose_differences_avx2(__m256d d0, __m256d d1,
+                                                                                      __m256d d2, __m256d d3,
+                                                                                      __m256d& dx, __m256d& dy,
+                                                                                      __m256d& dz) {
+  const __m256d lo01 = _mm256_unpacklo_pd(d0, d1), hi01 = _mm256_unpackhi_pd(d0, d1);
+  const __m256d lo23 = _mm256_unpacklo_pd(d2, d3), hi23 = _mm256_unpackhi_pd(d2, d3);
+  dx = _mm256_permute2f128_pd(lo01, lo23, 0x20);
+  dy = _mm256_permute2f128_pd(hi01, hi23, 0x20);
+  dz = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+}
+/// x_a - x_b of an AdjacentPairs group (edge m joins rows a + 2m and a + 2m + 1): each edge's six
+/// values are one window of x; nothing outside rows [a, a + 8) is read.
+__attribute__((target("avx2"), always_inline)) inline void load_adjacent_pair_differences_avx2(const double* x, int a,
+                                                                                               __m256d& dx,
+                                                                                               __m256d& dy,
+                                                                                               __m256d& dz) {
+  const double* p = x + 3 * a;
+  __m256d d[4];
+  for (int m = 0; m < 4; ++m) {
+    // (xa ya za xb) minus (za xb yb zb) turned to (xb yb zb za).
+    const __m256d second = _mm256_permute4x64_pd(_mm256_loadu_pd(p + 6 * m + 2), 0x39);
+    d[m] = _mm256_sub_pd(_mm256_loadu_pd(p + 6 * m), second);
+  }
+  transpose_differences_avx2(d[0], d[1], d[2], d[3], dx, dy, dz);
+}
+/// y_a += t and y_b -= t (as y_b + (-t), the same bits) for an AdjacentPairs group: per edge one
+/// four-value and one two-value update of its six values, (tx ty tz -tx) and (-ty -tz).
+__attribute__((target("avx2"), always_inline)) inline void update_adjacent_pairs_avx2(double* y, int a, __m256d tx,
+                                                                                      __m256d ty, __m256d tz) {
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  const __m256d ntx = _mm256_xor_pd(tx, sign), nty = _mm256_xor_pd(ty, sign), ntz = _mm256_xor_pd(tz, sign);
+  const __m256d xy02 = _mm256_unpacklo_pd(tx, ty), xy13 = _mm256_unpackhi_pd(tx, ty);     // (tx0 ty0 tx2 ty2)
+  const __m256d zx02 = _mm256_unpacklo_pd(tz, ntx), zx13 = _mm256_unpackhi_pd(tz, ntx);   // (tz0 -tx0 tz2 -tx2)
+  const __m256d yz02 = _mm256_unpacklo_pd(nty, ntz), yz13 = _mm256_unpackhi_pd(nty, ntz);  // (-ty0 -tz0 -ty2 -tz2)
+  const __m256d first[4] = {_mm256_permute2f128_pd(xy02, zx02, 0x20), _mm256_permute2f128_pd(xy13, zx13, 0x20),
+                            _mm256_permute2f128_pd(xy02, zx02, 0x31), _mm256_permute2f128_pd(xy13, zx13, 0x31)};
+  const __m128d second[4] = {_mm256_castpd256_pd128(yz02), _mm256_castpd256_pd128(yz13), _mm256_extractf128_pd(yz02, 1),
+                             _mm256_extractf128_pd(yz13, 1)};
+  double* p = y + 3 * a;
+  for (int m = 0; m < 4; ++m) {
+    _mm256_storeu_pd(p + 6 * m, _mm256_add_pd(_mm256_loadu_pd(p + 6 * m), first[m]));
+    _mm_storeu_pd(p + 6 * m + 4, _mm_add_pd(_mm_loadu_pd(p + 6 * m + 4), second[m]));
+  }
+}
+/// x_a - x_b of a TwoApartPairs group (rows a, a+2; a+1, a+3; a+4, a+6; a+5, a+7): rows a, a+1
+/// minus rows a+2, a+3 are six values in a row, (dx0 dy0 dz0 dx1) and (dy1 dz1), the same from a+4.
+__attribute__((target("avx2"), always_inline)) inline void load_two_apart_differences_avx2(const double* x, int a,
+                                                                                           __m256d& dx, __m256d& dy,
+                                                                                           __m256d& dz) {
+  const double* p = x + 3 * a;
+  const __m256d first = _mm256_sub_pd(_mm256_loadu_pd(p), _mm256_loadu_pd(p + 6));
+  const __m256d third = _mm256_sub_pd(_mm256_loadu_pd(p + 12), _mm256_loadu_pd(p + 18));
+  const __m128d second = _mm_sub_pd(_mm_loadu_pd(p + 4), _mm_loadu_pd(p + 10));
+  const __m128d fourth = _mm_sub_pd(_mm_loadu_pd(p + 16), _mm_loadu_pd(p + 22));
+  const __m256d lo = _mm256_permute2f128_pd(first, third, 0x20);  // (dx0 dy0 dx2 dy2)
+  const __m256d hi = _mm256_permute2f128_pd(first, third, 0x31);  // (dz0 dx1 dz2 dx3)
+  const __m256d tails = _mm256_insertf128_pd(_mm256_castpd128_pd256(second), fourth, 1);  // (dy1 dz1 dy3 dz3)
+  dx = _mm256_blend_pd(lo, hi, 0b1010);
+  dy = _mm256_shuffle_pd(lo, tails, 0b0101);
+  dz = _mm256_shuffle_pd(hi, tails, 0b1010);
+}
+/// y_a += t and y_b -= t for a TwoApartPairs group: the inverse of the load's transpose, then the
+/// six values of rows a, a+1 (and a+4, a+5) added and those of rows a+2, a+3 (a+6, a+7) subtracted.
+__attribute__((target("avx2"), always_inline)) inline void update_two_apart_pairs_avx2(double* y, int a, __m256d tx,
+                                                                                       __m256d ty, __m256d tz) {
+  const __m256d lo = _mm256_unpacklo_pd(tx, ty);        // (tx0 ty0 tx2 ty2)
+  const __m256d hi = _mm256_shuffle_pd(tz, tx, 0b1010);  // (tz0 tx1 tz2 tx3)
+  const __m256d first = _mm256_permute2f128_pd(lo, hi, 0x20), third = _mm256_permute2f128_pd(lo, hi, 0x31);
+  const __m256d tails = _mm256_unpackhi_pd(ty, tz);  // (ty1 tz1 ty3 tz3)
+  const __m128d second = _mm256_castpd256_pd128(tails), fourth = _mm256_extractf128_pd(tails, 1);
+  double* p = y + 3 * a;
+  _mm256_storeu_pd(p, _mm256_add_pd(_mm256_loadu_pd(p), first));
+  _mm_storeu_pd(p + 4, _mm_add_pd(_mm_loadu_pd(p + 4), second));
+  _mm256_storeu_pd(p + 6, _mm256_sub_pd(_mm256_loadu_pd(p + 6), first));
+  _mm_storeu_pd(p + 10, _mm_sub_pd(_mm_loadu_pd(p + 10), second));
+  _mm256_storeu_pd(p + 12, _mm256_add_pd(_mm256_loadu_pd(p + 12), third));
+  _mm_storeu_pd(p + 16, _mm_add_pd(_mm_loadu_pd(p + 16), fourth));
+  _mm256_storeu_pd(p + 18, _mm256_sub_pd(_mm256_loadu_pd(p + 18), third));
+  _mm_storeu_pd(p + 22, _mm_sub_pd(_mm_loadu_pd(p + 22), fourth));
+}
 }  // namespace detail
 
 // The vector version does the scalar one's operations in the same order (no fused multiply-add),
@@ -313,33 +420,35 @@ __attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_pr
   const int* er = m_edge_rows.data();
   using detail::load_row_avx2;
   using detail::update_row_avx2;
-  const char* contiguous = m_contiguous.data();
+  const GroupShape* shapes = m_group_shape.data();
   const int colours = static_cast<int>(m_colour_begin.size()) - 1;
   for (int k = 0; k < colours; ++k) {
     const auto share = even_share(m_colour_begin[k + 1] - m_colour_begin[k], team_rank(), team_size());
     const int begin = m_colour_begin[k] + int(share.first), end = m_colour_begin[k] + int(share.second);
-    int e = std::min(end, (begin + group - 1) / group * group);  // the first whole group
-    add_edge_range<true>(x, y, begin, e);
-    for (; e + group <= end; e += group) {
-      const int* rows = er + 2 * e;
-      const bool consecutive = contiguous[e / group] != 0;
+    // Whole groups [first_group, end_group), the edges before and after them one by one.
+    const int first_group = (begin + group - 1) / group, end_group = end / group;
+    const int head_end = std::min(end, first_group * group), tail_begin = std::max(head_end, end_group * group);
+    add_edge_range<true>(x, y, begin, head_end);
+    for (int g = first_group; g < end_group; ++g) {
+      const int* rows = er + 2 * group * g;
+      const GroupShape shape = shapes[g];
       // d = x_a - x_b of the four edges, one vector per component.
       __m256d dx, dy, dz;
-      if (consecutive) {
+      if (shape == GroupShape::Consecutive) {
         detail::load_consecutive_differences_avx2(x, rows[0], rows[1], dx, dy, dz);
+      } else if (shape == GroupShape::AdjacentPairs) {
+        detail::load_adjacent_pair_differences_avx2(x, rows[0], dx, dy, dz);
+      } else if (shape == GroupShape::TwoApartPairs) {
+        detail::load_two_apart_differences_avx2(x, rows[0], dx, dy, dz);
       } else {  // gathered row by row, then transposed
-        const __m256d d0 = _mm256_sub_pd(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1]));
-        const __m256d d1 = _mm256_sub_pd(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3]));
-        const __m256d d2 = _mm256_sub_pd(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5]));
-        const __m256d d3 = _mm256_sub_pd(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7]));
-        const __m256d lo01 = _mm256_unpacklo_pd(d0, d1), hi01 = _mm256_unpackhi_pd(d0, d1);
-        const __m256d lo23 = _mm256_unpacklo_pd(d2, d3), hi23 = _mm256_unpackhi_pd(d2, d3);
-        dx = _mm256_permute2f128_pd(lo01, lo23, 0x20);
-        dy = _mm256_permute2f128_pd(hi01, hi23, 0x20);
-        dz = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+        detail::transpose_differences_avx2(_mm256_sub_pd(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1])),
+                                           _mm256_sub_pd(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3])),
+                                           _mm256_sub_pd(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5])),
+                                           _mm256_sub_pd(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7])), dx,
+                                           dy, dz);
       }
       // Unaligned loads: a std::vector is only 16-byte aligned (an aligned load would fault).
-      const double* c = m_values.data() + value_index(e, 0, 6);
+      const double* c = m_values.data() + std::size_t(6 * group) * std::size_t(g);  // value_index(4 g, 0, 6)
       const __m256d c0 = _mm256_loadu_pd(c), c1 = _mm256_loadu_pd(c + 4), c2 = _mm256_loadu_pd(c + 8);
       const __m256d c3 = _mm256_loadu_pd(c + 12), c4 = _mm256_loadu_pd(c + 16), c5 = _mm256_loadu_pd(c + 20);
       const __m256d tx =
@@ -348,8 +457,16 @@ __attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_pr
           _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c1, dx), _mm256_mul_pd(c2, dy)), _mm256_mul_pd(c4, dz));
       const __m256d tz =
           _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c3, dx), _mm256_mul_pd(c4, dy)), _mm256_mul_pd(c5, dz));
-      if (consecutive) {
+      if (shape == GroupShape::Consecutive) {
         detail::update_consecutive_rows_avx2(y, rows[0], rows[1], tx, ty, tz);
+        continue;
+      }
+      if (shape == GroupShape::AdjacentPairs) {
+        detail::update_adjacent_pairs_avx2(y, rows[0], tx, ty, tz);
+        continue;
+      }
+      if (shape == GroupShape::TwoApartPairs) {
+        detail::update_two_apart_pairs_avx2(y, rows[0], tx, ty, tz);
         continue;
       }
       // Back to (tx, ty) pairs and tz per edge.
@@ -363,7 +480,7 @@ __attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_pr
         update_row_avx2<false>(y, rows[2 * i + 1], pair[i], z[i]);
       }
     }
-    add_edge_range<true>(x, y, e, end);
+    add_edge_range<true>(x, y, tail_begin, end);
     team_barrier();
   }
 }
