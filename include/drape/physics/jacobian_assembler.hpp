@@ -560,8 +560,12 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
       Scalar b0 = weight[0], b1 = weight[1], b2 = weight[2];
       for (int k = incidence_begin[row]; k < incidence_begin[row + 1]; ++k) {
         const Incidence& in = incidence[k];
+        // Value q of a spring lies `group` places after value q - 1 (EdgeOperator::value_index()).
+        constexpr std::size_t group = EdgeOperator<Scalar>::group;
+        const Scalar* spring_c = blocks + EdgeOperator<Scalar>::value_index(in.spring, 0, stride);
+        const Scalar* spring_g = g_all + EdgeOperator<Scalar>::value_index(in.spring, 0, 3);
         Scalar c[stride];
-        for (int q = 0; q < stride; ++q) c[q] = blocks[EdgeOperator<Scalar>::value_index(in.spring, q, stride)];
+        for (int q = 0; q < stride; ++q) c[q] = spring_c[group * std::size_t(q)];
         for (int q = 0; q < stride; ++q) diag[q] += c[q];
         if (in.block >= 0) {
           Scalar full[9];
@@ -569,9 +573,7 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
           Scalar* off = values + 9 * in.block;
           for (int q = 0; q < 9; ++q) off[q] = -full[q];
         }
-        const Scalar g[3] = {g_all[EdgeOperator<Scalar>::value_index(in.spring, 0, 3)],
-                             g_all[EdgeOperator<Scalar>::value_index(in.spring, 1, 3)],
-                             g_all[EdgeOperator<Scalar>::value_index(in.spring, 2, 3)]};
+        const Scalar g[3] = {spring_g[0], spring_g[group], spring_g[2 * group]};
         if (in.node_b) {
           b0 -= g[0];
           b1 -= g[1];

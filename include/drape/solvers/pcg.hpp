@@ -151,9 +151,10 @@ SolveStatus PcgSolver<Scalar>::solve(const LinearSystem<Scalar>& system, VectorX
     // Set-up: x = S x + z, the preconditioner for these values, r = S(b - A x), z = S B r, p = z.
     if (constrained) team_for(rows, [&](int row) { constraints.impose_row(row, xs + 3 * row); });
     const bool ready = preconditioner.update_in_team(system);
+    if (edges) system.edges.multiply_in_team(xs, r);  // A x into r (ends with a barrier)
     team_for(rows, [&](int row) {
-      const std::array<Scalar, 3> y = row_product(row, xs);
       Scalar* rr = r + 3 * row;
+      const std::array<Scalar, 3> y = edges ? std::array<Scalar, 3>{rr[0], rr[1], rr[2]} : row_product(row, xs);
       rr[0] = bs[3 * row] - y[0];
       rr[1] = bs[3 * row + 1] - y[1];
       rr[2] = bs[3 * row + 2] - y[2];
