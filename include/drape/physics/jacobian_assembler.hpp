@@ -561,11 +561,10 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
       for (int k = incidence_begin[row]; k < incidence_begin[row + 1]; ++k) {
         const Incidence& in = incidence[k];
         // Value q of a spring lies `group` places after value q - 1 (EdgeOperator::value_index()).
-        constexpr std::size_t group = EdgeOperator<Scalar>::group;
         const Scalar* spring_c = blocks + EdgeOperator<Scalar>::value_index(in.spring, 0, stride);
         const Scalar* spring_g = g_all + EdgeOperator<Scalar>::value_index(in.spring, 0, 3);
         Scalar c[stride];
-        for (int q = 0; q < stride; ++q) c[q] = spring_c[group * std::size_t(q)];
+        for (int q = 0; q < stride; ++q) c[q] = spring_c[std::size_t(group) * std::size_t(q)];
         for (int q = 0; q < stride; ++q) diag[q] += c[q];
         if (in.block >= 0) {
           Scalar full[9];
