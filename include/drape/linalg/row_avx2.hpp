@@ -1,7 +1,8 @@
 #pragma once
 /// \file row_avx2.hpp
-/// A block row's three values in one AVX2 register (the fourth lane unused) and back, without
-/// touching the value after them (the next row's, or past the end of the vector).
+/// A block row's three values in one AVX2 register (the fourth lane unused; `__m256d` for double,
+/// `__m128` for float) and back, without touching the value after them (the next row's, or past
+/// the end of the vector).
 
 #include "drape/core/instruction_set.hpp"
 
@@ -24,6 +25,19 @@ __attribute__((target("avx2"), always_inline)) inline void store_row3_avx2(doubl
   }
   _mm_storeu_pd(x, v01);
   _mm_store_sd(x + 2, v2);
+}
+
+/// (x0, x1, x2, 0) from the three floats at `x`. The first two as one 64-bit load that may be
+/// unaligned and may alias floats (GCC's _mm_load_sd dereferences a double*).
+__attribute__((target("avx2"), always_inline)) inline __m128 load_row3_avx2(const float* x) {
+  return _mm_movelh_ps(_mm_castsi128_ps(_mm_loadu_si64(x)), _mm_load_ss(x + 2));
+}
+
+/// The first three lanes of `v` stored at `x` (`add` false) or added to the values there.
+__attribute__((target("avx2"), always_inline)) inline void store_row3_avx2(float* x, __m128 v, bool add) {
+  if (add) v = _mm_add_ps(load_row3_avx2(x), v);  // lane 3 is x's 0 plus v's: never stored
+  _mm_storeu_si64(x, _mm_castps_si128(v));
+  _mm_store_ss(x + 2, _mm_movehl_ps(v, v));
 }
 
 }  // namespace drape::detail

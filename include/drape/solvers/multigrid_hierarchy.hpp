@@ -200,6 +200,26 @@ __attribute__((target("avx2"))) inline void galerkin_blocks_avx2(const int* uppe
   }
 }
 
+/// The float twin: values 0-7 as one vector, the ninth alone, each summed in the baseline's order.
+__attribute__((target("avx2"))) inline void galerkin_blocks_avx2(const int* upper, const int* g_begin,
+                                                                 const int* g_block, const float* g_weight,
+                                                                 const int* transposed, const float* fine,
+                                                                 float* coarse, int begin, int end) {
+  for (int u = begin; u < end; ++u) {
+    __m256 s07 = _mm256_setzero_ps();
+    float ninth = 0;
+    for (int e = g_begin[u]; e < g_begin[u + 1]; ++e) {
+      const float* f = fine + 9 * g_block[e];
+      s07 = _mm256_add_ps(s07, _mm256_mul_ps(_mm256_broadcast_ss(g_weight + e), _mm256_loadu_ps(f)));
+      ninth += g_weight[e] * f[8];
+    }
+    alignas(32) float s[9];
+    _mm256_store_ps(s, s07);
+    s[8] = ninth;
+    store_coarse_block(s, upper[u], transposed, coarse);
+  }
+}
+
 /// MultigridHierarchy's transfers for double with AVX2, rows [begin, end) of `to`: the weighted sum
 /// of `from`'s rows [index_begin[r], index_begin[r + 1]) of (index_row, index_weight), stored
 /// (`add` false: restriction) or added (prolongation); the baseline's order, no FMA.
@@ -212,6 +232,18 @@ __attribute__((target("avx2"))) inline void transfer_rows_avx2(const int* index_
       const __m256d v = load_row3_avx2(from + 3 * index_row[e]);
       s = _mm256_add_pd(s, _mm256_mul_pd(_mm256_broadcast_sd(index_weight + e), v));
     }
+    store_row3_avx2(to + 3 * r, s, add);
+  }
+}
+
+/// The float twin: a row's three values in one `__m128`.
+__attribute__((target("avx2"))) inline void transfer_rows_avx2(const int* index_begin, const int* index_row,
+                                                               const float* index_weight, const float* from, float* to,
+                                                               bool add, int begin, int end) {
+  for (int r = begin; r < end; ++r) {
+    __m128 s = _mm_setzero_ps();
+    for (int e = index_begin[r]; e < index_begin[r + 1]; ++e)
+      s = _mm_add_ps(s, _mm_mul_ps(_mm_broadcast_ss(index_weight + e), load_row3_avx2(from + 3 * index_row[e])));
     store_row3_avx2(to + 3 * r, s, add);
   }
 }
@@ -494,7 +526,7 @@ void MultigridHierarchy<Scalar>::sum_blocks(const detail::BlockSums<Scalar>& sum
   const int* transposed = target.transposed().data();
   const int count = static_cast<int>(sums.upper.size());
 #if DRAPE_AVX2_DISPATCH
-  if constexpr (std::is_same_v<Scalar, double>) {
+  if constexpr (std::is_same_v<Scalar, double> || std::is_same_v<Scalar, float>) {
     if (instruction_set() == InstructionSet::Avx2) {
       const auto share =
           shared ? even_share(count, team_rank(), team_size()) : std::pair<long long, long long>{0, count};
@@ -536,7 +568,7 @@ void MultigridHierarchy<Scalar>::transfer(const std::vector<int>& index_begin, c
   const auto share = shared ? even_share(rows, team_rank(), team_size()) : std::pair<long long, long long>{0, rows};
   const int begin = int(share.first), end = int(share.second);
 #if DRAPE_AVX2_DISPATCH
-  if constexpr (std::is_same_v<Scalar, double>) {
+  if constexpr (std::is_same_v<Scalar, double> || std::is_same_v<Scalar, float>) {
     if (instruction_set() == InstructionSet::Avx2) {
       detail::transfer_rows_avx2(index_begin.data(), index_row.data(), index_weight.data(), from, to, add, begin, end);
       if (shared) team_barrier();
