@@ -54,7 +54,8 @@ using Kind = drape::LinearSolverKind;
 /// Every solver measured; cg with block Jacobi (the default before multigrid) is kept as the
 /// reference that shows what the multigrid preconditioner buys.
 const SolverSetup solver_setups[] = {
-    {Kind::Cg, drape::PreconditionerKind::Multigrid}, {Kind::Cg, drape::PreconditionerKind::BlockJacobi},
+    {Kind::Cg, drape::PreconditionerKind::Multigrid}, {Kind::Cg, drape::PreconditionerKind::MultigridFloat},
+    {Kind::Cg, drape::PreconditionerKind::BlockJacobi},
     {Kind::Bicgstab}, {Kind::Cholmod}, {Kind::Umfpack}, {Kind::Ldlt}, {Kind::Lu}};
 
 /// What the implicit-step family runs. The default (cg, Spd) gets both time steps and 1 and 2
@@ -70,6 +71,7 @@ struct StepPlan {
 };
 const StepPlan step_plans[] = {
     {{Kind::Cg, drape::PreconditionerKind::Multigrid}, JacobianVariant::Spd, true, &one_and_two},
+    {{Kind::Cg, drape::PreconditionerKind::MultigridFloat}, JacobianVariant::Spd, true, &one_and_two},
     {{Kind::Cg, drape::PreconditionerKind::Multigrid}, JacobianVariant::Symmetric, false, &two},
     {{Kind::Cg, drape::PreconditionerKind::BlockJacobi}, JacobianVariant::Spd, false, &one_and_two},
     {{Kind::Bicgstab}, JacobianVariant::Spd, false, &two},

@@ -68,6 +68,7 @@
 #include "drape/solvers/dense_cholesky.hpp"
 #include "drape/solvers/multigrid_hierarchy.hpp"
 #include "drape/solvers/multigrid.hpp"
+#include "drape/solvers/single_precision_multigrid.hpp"
 #include "drape/solvers/pcg.hpp"
 #include "drape/solvers/bicgstab.hpp"
 #include "drape/solvers/direct_solver.hpp"

@@ -70,6 +70,7 @@ TEST_CASE("constraint filter: rows fixed and held on planes, solved by every ite
     PreconditionerKind preconditioner;
   };
   for (const SetUp setup : {SetUp{LinearSolverKind::Cg, PreconditionerKind::Multigrid},
+                            SetUp{LinearSolverKind::Cg, PreconditionerKind::MultigridFloat},
                             SetUp{LinearSolverKind::Cg, PreconditionerKind::BlockJacobi},
                             SetUp{LinearSolverKind::Bicgstab, PreconditionerKind::BlockJacobi}})
     for (const LinearSystem<double>* system : {&s, static_cast<const LinearSystem<double>*>(&blocks_only)}) {

@@ -15,6 +15,7 @@
 #include "drape/solvers/eigen_direct.hpp"
 #include "drape/solvers/multigrid.hpp"
 #include "drape/solvers/pcg.hpp"
+#include "drape/solvers/single_precision_multigrid.hpp"
 #include "test_common.hpp"
 
 using namespace drape;
@@ -367,6 +368,72 @@ TEST_CASE("multigrid: float", "[multigrid][float]") {
   REQUIRE(status.ok());
   CHECK(status.iterations <= 15);
   CHECK((p->b - p->a.to_dense() * x).norm() <= 2e-4f * p->b.norm());
+}
+
+TEST_CASE("multigrid-float: a float V-cycle in the double solve keeps its accuracy and its iterations",
+          "[multigrid][mixed]") {
+  for (const PinTreatment pins : {PinTreatment::Eliminate, PinTreatment::Filter})
+    for (int n : {17, 33, 65}) {
+      const auto p = make_problem<double>(n, pins);
+      const Solve mixed = pcg(*p, PreconditionerKind::MultigridFloat, 1e-9);
+      const Solve full = pcg(*p, PreconditionerKind::Multigrid, 1e-9);
+      EigenLdltSolver<double> direct;
+      direct.analyze(p->system);
+      VectorX<double> exact = VectorX<double>::Zero(p->b.size());
+      REQUIRE(direct.solve(p->system, exact).ok());
+      INFO(n << " x " << n << (pins == PinTreatment::Filter ? ", filtered pins" : "") << ": float cycle "
+             << mixed.status.iterations << " iterations, double cycle " << full.status.iterations);
+      REQUIRE(mixed.status.ok());
+      CHECK(mixed.status.residual <= 1e-9);  // CG's residual, in double
+      CHECK((mixed.x - exact).norm() <= 1e-7 * exact.norm());
+      CHECK(mixed.status.iterations <= full.status.iterations + 1);
+      if (pins == PinTreatment::Filter)
+        for (int node : p->cloth.pins().nodes())
+          CHECK(mixed.x.segment<3>(3 * p->assembler.row_of_node()[static_cast<std::size_t>(node)]).norm() == 0.0);
+    }
+}
+
+TEST_CASE("multigrid-float: the float cycle is the double cycle to float accuracy, and symmetric",
+          "[multigrid][mixed]") {
+  for (const PinTreatment pins : {PinTreatment::Eliminate, PinTreatment::Filter}) {
+    const auto p = make_problem<double>(33, pins);
+    MultigridPreconditioner<double> full;
+    SinglePrecisionMultigrid<double> mixed;
+    full.analyze(p->system);
+    mixed.analyze(p->system);
+    REQUIRE(full.update_in_team(p->system));
+    REQUIRE(mixed.update_in_team(p->system));
+    REQUIRE(mixed.cycle().level_rows() == full.level_rows());
+    REQUIRE(mixed.single_system().edges.valid());  // the float fine level uses the edge form too
+    const auto mixed_apply = [&](const VectorX<double>& r) {
+      VectorX<double> z(r.size());
+      mixed.apply_in_team(r.data(), z.data());
+      return z;
+    };
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      INFO((pins == PinTreatment::Filter ? "filtered pins, " : "") << "seed " << seed);
+      const VectorX<double> u = test::random_velocities<double>(p->a.block_rows(), 1.0, seed).reshaped();
+      const VectorX<double> v = test::random_velocities<double>(p->a.block_rows(), 1.0, seed + 100).reshaped();
+      const VectorX<double> bu = mixed_apply(u), bv = mixed_apply(v);
+      const VectorX<double> exact = apply(full, u);
+      CHECK((bu - exact).norm() <= 1e-5 * exact.norm());
+      CHECK((bu - exact).norm() > 0);  // it did run in float
+      CHECK(std::abs(u.dot(bv) - v.dot(bu)) <= 1e-5 * std::abs(u.dot(bv)));
+      CHECK(u.dot(bu) > 0);
+    }
+  }
+}
+
+TEST_CASE("multigrid-float: two threads agree with one, and repeat bitwise", "[multigrid][mixed][threads]") {
+  const auto p = make_problem<double>(129);
+  const Solve one = pcg(*p, PreconditionerKind::MultigridFloat, 1e-8, 1);
+  const Solve two = pcg(*p, PreconditionerKind::MultigridFloat, 1e-8, 2);
+  const Solve again = pcg(*p, PreconditionerKind::MultigridFloat, 1e-8, 2);
+  REQUIRE(one.status.ok());
+  REQUIRE(two.status.ok());
+  CHECK((two.x - one.x).norm() <= 1e-6 * one.x.norm());
+  CHECK(two.x == again.x);
+  CHECK(two.status.iterations == again.status.iterations);
 }
 
 TEST_CASE("multigrid: bad set-up is rejected with the parameter's name", "[multigrid][validation]") {

@@ -105,6 +105,22 @@ class ConstraintFilter {
     if (empty()) return;
     for (int r = 0; r < rows(); ++r) impose_row(r, x + 3 * r);
   }
+  /// This filter becomes `other`, its values rounded to Scalar (the single-precision copy a
+  /// mixed-precision preconditioner works with). Only rows constrained in either are copied; no
+  /// allocation once the row counts match.
+  template <class Other>
+  void assign(const ConstraintFilter<Other>& other) {
+    if (rows() != other.rows()) *this = ConstraintFilter(other.rows());
+    for (int r = 0; r < rows(); ++r) {
+      const std::size_t i = static_cast<std::size_t>(r);
+      if (m_kind[i] == ConstraintKind::Free && other.m_kind[i] == ConstraintKind::Free) continue;
+      m_kind[i] = other.m_kind[i];
+      for (std::size_t q = 0; q < 9; ++q) m_filter[9 * i + q] = Scalar(other.m_filter[9 * i + q]);
+      for (std::size_t q = 0; q < 3; ++q) m_value[3 * i + q] = Scalar(other.m_value[3 * i + q]);
+    }
+    m_constrained = other.m_constrained;
+  }
+
   /// \f$ S_r \f$ (column-major) and \f$ z_r \f$ of a row.
   Mat3<Scalar> filter(int row) const {
     if (kind(row) == ConstraintKind::Free) return Mat3<Scalar>::Identity();
@@ -124,6 +140,9 @@ class ConstraintFilter {
     Eigen::Map<Mat3<Scalar>>(m_filter.data() + 9 * static_cast<std::size_t>(row)) = filter;
     Eigen::Map<Vec3<Scalar>>(m_value.data() + 3 * static_cast<std::size_t>(row)) = value;
   }
+
+  template <class>
+  friend class ConstraintFilter;
 
   std::vector<ConstraintKind> m_kind;
   std::vector<Scalar> m_filter;  // 9 per row, column-major

@@ -2,8 +2,8 @@
 /// \file pcg.hpp
 /// Preconditioned conjugate gradients on the filtered system (Baraff & Witkin 1998, section 5.3),
 /// warm-started from the caller's `x` (the previous step's dv). The preconditioner
-/// (IterativeSettings::preconditioner) is block Jacobi or the multigrid V-cycle, behind one
-/// interface (preconditioner.hpp), so there is one CG loop:
+/// (IterativeSettings::preconditioner) is block Jacobi or the multigrid V-cycle (in the solve's
+/// precision or in float), behind one interface (preconditioner.hpp), so there is one CG loop:
 /// \f[ x \leftarrow S x + z,\quad r = S(b - A x),\quad p = S B r; \qquad
 ///     q = S A p,\; \alpha = \frac{r \cdot B r}{p \cdot q},\; x \mathrel{+}= \alpha p,\; r \mathrel{-}= \alpha q,\;
 ///     p \leftarrow S B r + \beta p. \f]
@@ -23,12 +23,14 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <type_traits>
 
 #include "drape/core/team.hpp"
 #include "drape/linalg/block3.hpp"
 #include "drape/solvers/block_jacobi.hpp"
 #include "drape/solvers/linear_solver.hpp"
 #include "drape/solvers/multigrid.hpp"
+#include "drape/solvers/single_precision_multigrid.hpp"
 #include "drape/solvers/solver_kind.hpp"
 
 namespace drape {
@@ -68,8 +70,11 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
 template <class Scalar>
 PcgSolver<Scalar>::PcgSolver(const IterativeSettings& settings, const MultigridSettings& multigrid)
     : m_settings(settings) {
-  if (settings.preconditioner == PreconditionerKind::Multigrid)
+  if (settings.preconditioner == PreconditionerKind::Multigrid ||
+      (settings.preconditioner == PreconditionerKind::MultigridFloat && std::is_same_v<Scalar, float>))
     m_preconditioner = std::make_unique<MultigridPreconditioner<Scalar>>(multigrid);
+  else if (settings.preconditioner == PreconditionerKind::MultigridFloat)
+    m_preconditioner = std::make_unique<SinglePrecisionMultigrid<Scalar>>(multigrid);
   else
     m_preconditioner = std::make_unique<BlockJacobi<Scalar>>();
 }

@@ -17,13 +17,17 @@ namespace drape {
 enum class PreconditionerKind : std::uint8_t {
   BlockJacobi = 0,  ///< inverse 3x3 diagonal blocks: needs nothing but the matrix
   Multigrid = 1,    ///< geometric multigrid V-cycle on the lattice: needs LinearSystem::layout
+  /// The same V-cycle in float inside a double solve (single_precision_multigrid.hpp): fewer bytes
+  /// per cycle; for a float solve, the same as Multigrid.
+  MultigridFloat = 2,
 };
 
 template <>
 struct EnumNames<PreconditionerKind> {
   static constexpr const char* parameter = "preconditioner";
-  static constexpr std::array<EnumName<PreconditionerKind>, 2> values{
-      {{PreconditionerKind::Multigrid, "multigrid"}, {PreconditionerKind::BlockJacobi, "block-jacobi"}}};
+  static constexpr std::array<EnumName<PreconditionerKind>, 3> values{{{PreconditionerKind::Multigrid, "multigrid"},
+                                                                      {PreconditionerKind::MultigridFloat, "multigrid-float"},
+                                                                      {PreconditionerKind::BlockJacobi, "block-jacobi"}}};
 };
 
 template <class Scalar = double>

@@ -1,0 +1,114 @@
+#pragma once
+/// \file single_precision_multigrid.hpp
+/// The multigrid V-cycle (multigrid.hpp) run in float as the preconditioner of a double CG: mixed
+/// precision (PreconditionerKind::MultigridFloat).
+///
+/// Why: at dt = 1/60 a step is about ten V-cycles, and a V-cycle mostly streams the system's
+/// values and its level vectors; at 33 x 33 they no longer fit a 512 KiB L2, so the step waits on
+/// bytes (bench/analysis.md, "Session 17"). A preconditioner only has to approximate A^-1: float's
+/// seven digits change nothing CG can see (the same iterations, measured), while CG keeps the
+/// residual, the iterate and the product with A in double, so the solution's accuracy is the
+/// double solve's. The V-cycle's loops have float AVX2 versions (four or eight lanes), so it
+/// costs no more instructions than the double one and moves about half its bytes.
+///
+/// - analyze(): a float copy of the system's structure (pattern, edge form, layout, constraints)
+///   and the float V-cycle's hierarchy on it.
+/// - update_in_team(): the current values rounded to float (one pass over the matrix, the edge
+///   values and the constrained rows), then the float V-cycle's update: its coarse operators are
+///   summed in float from the rounded fine operator.
+/// - apply_in_team(): r rounded to float, one float V-cycle, z widened to double.
+/// Everything is split over the team in fixed shares: results depend on the thread count only.
+/// After analyze(), nothing allocates.
+
+#include <vector>
+
+#include "drape/core/team.hpp"
+#include "drape/linalg/linear_system.hpp"
+#include "drape/solvers/multigrid.hpp"
+#include "drape/solvers/preconditioner.hpp"
+
+namespace drape {
+
+template <class Scalar = double>
+class SinglePrecisionMultigrid final : public Preconditioner<Scalar> {
+ public:
+  explicit SinglePrecisionMultigrid(const MultigridSettings& settings = {}) : m_cycle(settings) {}
+
+  /// \throws InvalidParameter like MultigridPreconditioner::analyze().
+  void analyze(const LinearSystem<Scalar>& system) override;
+  /// The float copy of `system`'s values, then the float V-cycle's operators and smoothers.
+  bool update_in_team(const LinearSystem<Scalar>& system) override;
+  /// `z = B r` with one float V-cycle.
+  void apply_in_team(const Scalar* r, Scalar* z) override;
+
+  /// The float V-cycle and the float system it works on (tests and diagnostics).
+  const MultigridPreconditioner<float>& cycle() const { return m_cycle; }
+  const LinearSystem<float>& single_system() const { return m_single; }
+
+ private:
+  /// `to[i] = float(from[i])` for i < n, shared by the team (which waits at the end).
+  template <class From, class To>
+  static void convert(const From* from, To* to, std::size_t n);
+
+  LinearSystem<float> m_single;
+  MultigridPreconditioner<float> m_cycle;
+  std::vector<float> m_r, m_z;
+};
+
+// ---------------------------------------------------------------------------------------------
+
+template <class Scalar>
+template <class From, class To>
+void SinglePrecisionMultigrid<Scalar>::convert(const From* from, To* to, std::size_t n) {
+  const auto share = even_share(static_cast<long long>(n), team_rank(), team_size());
+  DRAPE_OMP_SIMD
+  for (long long i = share.first; i < share.second; ++i) to[i] = static_cast<To>(from[i]);
+  team_barrier();
+}
+
+template <class Scalar>
+void SinglePrecisionMultigrid<Scalar>::analyze(const LinearSystem<Scalar>& system) {
+  const BlockSparseMatrix<Scalar>& a = system.matrix;
+  std::vector<std::vector<int>> columns(static_cast<std::size_t>(a.block_rows()));
+  for (int r = 0; r < a.block_rows(); ++r)
+    columns[static_cast<std::size_t>(r)].assign(a.column().begin() + a.row_begin()[static_cast<std::size_t>(r)],
+                                                a.column().begin() + a.row_begin()[static_cast<std::size_t>(r) + 1]);
+  m_single.matrix = BlockSparseMatrix<float>(std::move(columns));  // the same (sorted) block order
+  const EdgeOperator<Scalar>& edges = system.edges;
+  m_single.edges = EdgeOperator<float>(edges.edge_rows(), edges.colour_begin(),
+                                       std::vector<float>(edges.row_mass().begin(), edges.row_mass().end()));
+  if (edges.has_row_blocks()) m_single.edges.enable_row_blocks();
+  m_single.layout = system.layout;
+  m_single.constraints = ConstraintFilter<float>(system.block_rows());
+  m_r.assign(static_cast<std::size_t>(system.size()), 0.0f);
+  m_z.assign(static_cast<std::size_t>(system.size()), 0.0f);
+  m_cycle.analyze(m_single);
+}
+
+template <class Scalar>
+bool SinglePrecisionMultigrid<Scalar>::update_in_team(const LinearSystem<Scalar>& system) {
+  convert(system.matrix.values(), m_single.matrix.values(), 9 * static_cast<std::size_t>(system.matrix.block_count()));
+  const EdgeOperator<Scalar>& edges = system.edges;
+  if (edges.valid()) {
+    convert(edges.values(), m_single.edges.values(), edges.value_count());
+    if (edges.uses_row_blocks() || edges.uses_row_diagonal())
+      convert(edges.row_blocks(), m_single.edges.row_blocks(), 9 * static_cast<std::size_t>(edges.rows()));
+  }
+  team_single([&] {
+    if (edges.valid())
+      m_single.edges.set_valid(edges.symmetric(), edges.uses_row_blocks() || edges.uses_row_diagonal());
+    else
+      m_single.edges.invalidate();
+    m_single.constraints.assign(system.constraints);
+  });
+  return m_cycle.update_in_team(m_single);
+}
+
+template <class Scalar>
+void SinglePrecisionMultigrid<Scalar>::apply_in_team(const Scalar* r, Scalar* z) {
+  convert(r, m_r.data(), m_r.size());
+  m_cycle.apply_in_team(m_r.data(), m_z.data());
+  convert(m_z.data(), z, m_z.size());
+}
+
+}  // namespace drape
