@@ -42,6 +42,7 @@
 #include "drape/core/team.hpp"
 #include "drape/core/types.hpp"
 #include "drape/linalg/block3.hpp"
+#include "drape/linalg/row_avx2.hpp"
 
 #if DRAPE_AVX2_DISPATCH
 #include <immintrin.h>
@@ -509,19 +510,16 @@ __attribute__((target("avx2"), always_inline)) inline void store_pairs_avx2(floa
   _mm_storel_pi(reinterpret_cast<__m64*>(p), v);
   _mm_storeh_pi(reinterpret_cast<__m64*>(q), v);
 }
-/// Row r of x as (x0, x1, x2, 0) from its three floats alone; zero for r < 0.
+/// Row r of x as (x0, x1, x2, 0) from its three floats alone (row_avx2.hpp); zero for r < 0.
 __attribute__((target("avx2"), always_inline)) inline __m128 load_row_avx2(const float* x, int r) {
-  return r >= 0 ? _mm_movelh_ps(load_pair_avx2(x + 3 * r), _mm_load_ss(x + 3 * r + 2)) : _mm_setzero_ps();
+  return r >= 0 ? load_row3_avx2(x + 3 * r) : _mm_setzero_ps();
 }
 /// y_r += (t0, t1, t2) (`Add`) or y_r -= them, t = (t0 t1 t2 unused); nothing for r < 0.
 template <bool Add>
 __attribute__((target("avx2"), always_inline)) inline void update_row_avx2(float* y, int r, __m128 t) {
   if (r < 0) return;
-  float* yr = y + 3 * r;
-  const __m128 yv = _mm_movelh_ps(load_pair_avx2(yr), _mm_load_ss(yr + 2));
-  const __m128 sum = Add ? _mm_add_ps(yv, t) : _mm_sub_ps(yv, t);
-  _mm_storel_pi(reinterpret_cast<__m64*>(yr), sum);
-  _mm_store_ss(yr + 2, _mm_movehl_ps(sum, sum));
+  const __m128 yv = load_row3_avx2(y + 3 * r);
+  store_row3_avx2(y + 3 * r, Add ? _mm_add_ps(yv, t) : _mm_sub_ps(yv, t), false);
 }
 /// load_consecutive_differences_avx2 for float: three whole loads per end (rows a..a+3 are twelve
 /// floats) and the same blends, the permutations in _mm_permute_ps's encoding (2 bits per lane).
