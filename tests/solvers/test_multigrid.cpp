@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include <Eigen/SparseCore>
 
+#include "drape/core/instruction_set.hpp"
 #include "drape/fwd.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
@@ -423,6 +425,55 @@ TEST_CASE("multigrid-float: the float cycle is the double cycle to float accurac
       CHECK(u.dot(bu) > 0);
     }
   }
+}
+
+TEST_CASE("multigrid-float: level 1 is the double level 1 rounded once, the fine smoother the rounded diagonal",
+          "[multigrid][mixed]") {
+  // Without constraints the float cycle reads the fine block rows only on the diagonal (the
+  // smoother), and sums level 1 in double from the double matrix: each of its values is the double
+  // cycle's, rounded (the Galerkin weights are dyadic: exact in float). With filtered pins the
+  // whole matrix is rounded and level 1 summed from it in float: close, not equal.
+  struct Restore {
+    InstructionSet saved = instruction_set();
+    ~Restore() { use_instruction_set(saved); }
+  } restore;
+  for (const InstructionSet set : {InstructionSet::Baseline, detected_instruction_set()})
+    for (const bool route : {true, false})
+      for (const PinTreatment pins : {PinTreatment::Eliminate, PinTreatment::Filter}) {
+        INFO((set == InstructionSet::Avx2 ? "AVX2" : "baseline") << (route ? ", routed" : ", not routed")
+                                                                   << (pins == PinTreatment::Filter ? ", filtered pins" : ""));
+        use_instruction_set(set);
+        const auto p = make_problem<double>(33, pins);
+        MultigridSettings settings;
+        settings.route_through_midpoints = route;
+        MultigridPreconditioner<double> full(settings);
+        SinglePrecisionMultigrid<double> mixed(settings);
+        full.analyze(p->system);
+        mixed.analyze(p->system);
+        REQUIRE(full.update_in_team(p->system));
+        REQUIRE(mixed.update_in_team(p->system));
+        REQUIRE(mixed.cycle().level_count() > 2);
+        const BlockSparseMatrix<double>& a1 = full.level_matrix(1);
+        const BlockSparseMatrix<float>& s1 = mixed.cycle().level_matrix(1);
+        REQUIRE(s1.block_count() == a1.block_count());
+        int rounded_once = 0;
+        double worst = 0, largest = 0;
+        for (int q = 0; q < 9 * a1.block_count(); ++q) {
+          rounded_once += s1.values()[q] == static_cast<float>(a1.values()[q]);
+          worst = std::max(worst, std::abs(double(s1.values()[q]) - a1.values()[q]));
+          largest = std::max(largest, std::abs(a1.values()[q]));
+        }
+        if (pins == PinTreatment::Eliminate)
+          CHECK(rounded_once == 9 * a1.block_count());
+        else
+          CHECK(rounded_once < 9 * a1.block_count());
+        CHECK(worst <= 1e-6 * largest);
+        const BlockSparseMatrix<float>& fine = mixed.single_system().matrix;
+        for (int r = 0; r < p->a.block_rows(); ++r) {
+          const int k = p->a.diagonal()[static_cast<std::size_t>(r)];
+          for (int q = 0; q < 9; ++q) REQUIRE(fine.values()[9 * k + q] == static_cast<float>(p->a.values()[9 * k + q]));
+        }
+      }
 }
 
 TEST_CASE("multigrid-float: the float copy keeps the air's blocks on the diagonal", "[multigrid][mixed][air]") {

@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <type_traits>
 #include <vector>
 
 #include "drape/config.hpp"
@@ -50,7 +51,21 @@ class MultigridPreconditioner final : public Preconditioner<Scalar> {
   /// describe the matrix's rows, or a setting out of range.
   void analyze(const LinearSystem<Scalar>& system) override;
   /// Coarse operators, smoothers and the coarsest factorisation for `system`'s values.
-  bool update_in_team(const LinearSystem<Scalar>& system) override;
+  bool update_in_team(const LinearSystem<Scalar>& system) override { return update_in_team(system, system.matrix); }
+  /// update_in_team() with level 1 summed from `fine`: `system.matrix`'s values in double for a
+  /// float cycle (single_precision_multigrid.hpp), summed in double and rounded once. Then only the
+  /// diagonal blocks of `system.matrix` are read, and they must hold the current values; only for
+  /// a system with reads_fine_diagonal_only().
+  template <class Source>
+  bool update_in_team(const LinearSystem<Scalar>& system, const BlockSparseMatrix<Source>& fine);
+  /// True if an update and a cycle on `system` (in the calling team) read no block of its matrix
+  /// off the diagonal but through level 1's sums: the system has no constraints, a valid edge form
+  /// (the fine residuals' product) and coarse levels, and the finest level runs on the team (or the
+  /// team is one thread).
+  bool reads_fine_diagonal_only(const LinearSystem<Scalar>& system) const {
+    return level_count() > 1 && system.constraints.empty() && system.edges.valid() &&
+           (team_level(0) || team_size() == 1);
+  }
   /// One V-cycle from a zero initial guess: `z = B r`.
   void apply_in_team(const Scalar* r, Scalar* z) override;
 
@@ -180,8 +195,12 @@ void MultigridPreconditioner<Scalar>::filter(const LinearSystem<Scalar>& system,
 }
 
 template <class Scalar>
-bool MultigridPreconditioner<Scalar>::update_in_team(const LinearSystem<Scalar>& system) {
+template <class Source>
+bool MultigridPreconditioner<Scalar>::update_in_team(const LinearSystem<Scalar>& system,
+                                                     const BlockSparseMatrix<Source>& fine) {
   DRAPE_ASSERT(analyzed() && system.block_rows() == m_hierarchy.rows(0), "multigrid: update before analyze()");
+  if constexpr (!std::is_same_v<Source, Scalar>)
+    DRAPE_ASSERT(reads_fine_diagonal_only(system), "multigrid: level 1 from another matrix on a system that needs its own");
   const int levels = level_count();
   const bool filtered = !system.constraints.empty();
   team_single([&] {
@@ -201,10 +220,14 @@ bool MultigridPreconditioner<Scalar>::update_in_team(const LinearSystem<Scalar>&
     filter(system, m_hierarchy.routed_matrix(), m_hierarchy.routed_matrix());
   }
   const auto galerkin = [&](int l, bool shared_level) {
-    if (l == 1 && m_hierarchy.routed() && !filtered)
-      m_hierarchy.galerkin_through_routing(system.matrix, shared_level);
-    else
+    if (l == 1 && !filtered) {
+      if (m_hierarchy.routed())
+        m_hierarchy.galerkin_through_routing(fine, shared_level);
+      else
+        m_hierarchy.galerkin(1, fine, shared_level);
+    } else {
       m_hierarchy.galerkin(l, finer(l), shared_level);
+    }
   };
   // The finest levels with the whole team, the small ones on one thread (in order: each level's
   // operator is summed from the finer one's).

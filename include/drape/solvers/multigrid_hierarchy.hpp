@@ -175,27 +175,36 @@ inline void store_coarse_block(const Scalar* s, int cb, const int* transposed, S
 
 #if DRAPE_AVX2_DISPATCH
 namespace detail {
-/// MultigridHierarchy::galerkin() for double with AVX2, coarse blocks upper[u] for u in
+/// MultigridHierarchy::galerkin() from double fine blocks with AVX2, coarse blocks upper[u] for u in
 /// [begin, end): values 0-3 and 4-7 of the nine as two vectors, the ninth alone, each summed over
-/// the fine blocks in the same order as the baseline loop (no FMA): the same bits.
+/// the fine blocks in the same order as the baseline loop (no FMA): the same bits. `Weight` and
+/// `Out` are double, or float for the float hierarchy's level 1 summed from the double matrix
+/// (single_precision_multigrid.hpp): the float weights widened, the sums rounded once at the store.
+template <class Weight, class Out>
 __attribute__((target("avx2"))) inline void galerkin_blocks_avx2(const int* upper, const int* g_begin,
-                                                                 const int* g_block, const double* g_weight,
+                                                                 const int* g_block, const Weight* g_weight,
                                                                  const int* transposed, const double* fine,
-                                                                 double* coarse, int begin, int end) {
+                                                                 Out* coarse, int begin, int end) {
   for (int u = begin; u < end; ++u) {
     __m256d s0 = _mm256_setzero_pd(), s1 = _mm256_setzero_pd();
     double s8 = 0;
     for (int e = g_begin[u]; e < g_begin[u + 1]; ++e) {
-      const __m256d w = _mm256_broadcast_sd(g_weight + e);
+      const double weight = static_cast<double>(g_weight[e]);
+      const __m256d w = _mm256_set1_pd(weight);
       const double* f = fine + 9 * g_block[e];
       s0 = _mm256_add_pd(s0, _mm256_mul_pd(w, _mm256_loadu_pd(f)));
       s1 = _mm256_add_pd(s1, _mm256_mul_pd(w, _mm256_loadu_pd(f + 4)));
-      s8 += g_weight[e] * f[8];
+      s8 += weight * f[8];
     }
-    alignas(32) double s[9];
-    _mm256_store_pd(s, s0);
-    _mm256_storeu_pd(s + 4, s1);
-    s[8] = s8;
+    alignas(32) Out s[9];
+    if constexpr (std::is_same_v<Out, double>) {
+      _mm256_store_pd(s, s0);
+      _mm256_storeu_pd(s + 4, s1);
+    } else {
+      _mm_store_ps(s, _mm256_cvtpd_ps(s0));
+      _mm_storeu_ps(s + 4, _mm256_cvtpd_ps(s1));
+    }
+    s[8] = static_cast<Out>(s8);
     store_coarse_block(s, upper[u], transposed, coarse);
   }
 }
@@ -347,12 +356,16 @@ class MultigridHierarchy {
   /// If routed(): level 1's operator straight from level 0's values `fine`, the routing folded into
   /// the Galerkin weights (the same operator as route() then galerkin(1), without the pass over the
   /// routed matrix; for a fine operator that needs no filtering in between).
-  void galerkin_through_routing(const BlockSparseMatrix<Scalar>& fine, bool shared) {
+  /// `fine` may hold the values in double for a float hierarchy (summed in double, rounded once).
+  template <class Source>
+  void galerkin_through_routing(const BlockSparseMatrix<Source>& fine, bool shared) {
     sum_blocks(m_levels[1].galerkin_through_routing, fine, m_levels[1].a, shared);
   }
   /// Level l's operator (l >= 1) from `finer`: the operator of level l - 1, or for l = 1 the routed
-  /// one if routed(). Shared by the team if `shared` (see team_for_if()).
-  void galerkin(int l, const BlockSparseMatrix<Scalar>& finer, bool shared);
+  /// one if routed(). Shared by the team if `shared` (see team_for_if()). `finer` may be double for
+  /// a float hierarchy, like galerkin_through_routing().
+  template <class Source>
+  void galerkin(int l, const BlockSparseMatrix<Source>& finer, bool shared);
   /// `coarse = R fine` from level l - 1 to level l (l >= 1).
   void restrict_to(int l, const Scalar* fine, Scalar* coarse, bool shared) const;
   /// `fine += P coarse` from level l to level l - 1 (l >= 1).
@@ -377,8 +390,9 @@ class MultigridHierarchy {
   static void transfer(const std::vector<int>& index_begin, const std::vector<int>& index_row,
                        const std::vector<Scalar>& index_weight, const Scalar* from, Scalar* to, bool add, int rows,
                        bool shared);
-  /// `target`'s blocks from `source` by `sums`.
-  static void sum_blocks(const detail::BlockSums<Scalar>& sums, const BlockSparseMatrix<Scalar>& source,
+  /// `target`'s blocks from `source` by `sums`, summed in the wider of the two precisions.
+  template <class Source>
+  static void sum_blocks(const detail::BlockSums<Scalar>& sums, const BlockSparseMatrix<Source>& source,
                          BlockSparseMatrix<Scalar>& target, bool shared);
 
   std::vector<Level> m_levels;
@@ -507,7 +521,8 @@ void MultigridHierarchy<Scalar>::analyze(const GridLayout& layout, const BlockSp
 }
 
 template <class Scalar>
-void MultigridHierarchy<Scalar>::galerkin(int l, const BlockSparseMatrix<Scalar>& finer, bool shared) {
+template <class Source>
+void MultigridHierarchy<Scalar>::galerkin(int l, const BlockSparseMatrix<Source>& finer, bool shared) {
   Level& level = m_levels[static_cast<std::size_t>(l)];
   sum_blocks(level.galerkin, finer, level.a, shared);
 }
@@ -518,15 +533,19 @@ void MultigridHierarchy<Scalar>::route(const BlockSparseMatrix<Scalar>& fine, bo
 }
 
 template <class Scalar>
+template <class Source>
 void MultigridHierarchy<Scalar>::sum_blocks(const detail::BlockSums<Scalar>& sums,
-                                            const BlockSparseMatrix<Scalar>& source, BlockSparseMatrix<Scalar>& target,
+                                            const BlockSparseMatrix<Source>& source, BlockSparseMatrix<Scalar>& target,
                                             bool shared) {
-  const Scalar* fine = source.values();
+  using Sum = std::common_type_t<Scalar, Source>;
+  static_assert(std::is_same_v<Sum, Source>, "sum_blocks: the source is at least as precise as the target");
+  const Source* fine = source.values();
   Scalar* coarse = target.values();
   const int* transposed = target.transposed().data();
   const int count = static_cast<int>(sums.upper.size());
 #if DRAPE_AVX2_DISPATCH
-  if constexpr (std::is_same_v<Scalar, double> || std::is_same_v<Scalar, float>) {
+  if constexpr ((std::is_same_v<Scalar, double> || std::is_same_v<Scalar, float>) &&
+                (std::is_same_v<Source, double> || std::is_same_v<Source, float>)) {
     if (instruction_set() == InstructionSet::Avx2) {
       const auto share =
           shared ? even_share(count, team_rank(), team_size()) : std::pair<long long, long long>{0, count};
@@ -538,13 +557,15 @@ void MultigridHierarchy<Scalar>::sum_blocks(const detail::BlockSums<Scalar>& sum
   }
 #endif
   team_for_if(shared, count, [&](int u) {
-    Scalar s[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    Sum s[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     for (int e = sums.begin[static_cast<std::size_t>(u)]; e < sums.begin[static_cast<std::size_t>(u) + 1]; ++e) {
-      const Scalar w = sums.weight[static_cast<std::size_t>(e)];
-      const Scalar* f = fine + 9 * sums.block[static_cast<std::size_t>(e)];
+      const Sum w = sums.weight[static_cast<std::size_t>(e)];
+      const Source* f = fine + 9 * sums.block[static_cast<std::size_t>(e)];
       for (int q = 0; q < 9; ++q) s[q] += w * f[q];
     }
-    detail::store_coarse_block(s, sums.upper[static_cast<std::size_t>(u)], transposed, coarse);
+    Scalar rounded[9];
+    for (int q = 0; q < 9; ++q) rounded[q] = static_cast<Scalar>(s[q]);
+    detail::store_coarse_block(rounded, sums.upper[static_cast<std::size_t>(u)], transposed, coarse);
   });
 }
 

@@ -13,13 +13,17 @@
 ///
 /// - analyze(): a float copy of the system's structure (pattern, edge form, layout, constraints)
 ///   and the float V-cycle's hierarchy on it.
-/// - update_in_team(): the current values rounded to float (one pass over the matrix, the edge
-///   values and the constrained rows), then the float V-cycle's update: its coarse operators are
-///   summed in float from the rounded fine operator.
+/// - update_in_team(): the edge values and constrained rows rounded to float, then the float
+///   V-cycle's update. Level 1's operator is summed in double from the double matrix and rounded
+///   once, the coarser ones in float; of the fine block rows only the diagonal (the smoother's) is
+///   rounded. Where the cycle reads the fine block rows themselves (constraints filtered into them,
+///   no edge form, a one-level hierarchy, or the finest level run by one thread of a team), the
+///   whole matrix is rounded and level 1 summed from it.
 /// - apply_in_team(): r rounded to float, one float V-cycle, z widened to double.
 /// Everything is split over the team in fixed shares: results depend on the thread count only.
 /// After analyze(), nothing allocates.
 
+#include <type_traits>
 #include <vector>
 
 #include "drape/core/team.hpp"
@@ -87,7 +91,6 @@ void SinglePrecisionMultigrid<Scalar>::analyze(const LinearSystem<Scalar>& syste
 
 template <class Scalar>
 bool SinglePrecisionMultigrid<Scalar>::update_in_team(const LinearSystem<Scalar>& system) {
-  convert(system.matrix.values(), m_single.matrix.values(), 9 * static_cast<std::size_t>(system.matrix.block_count()));
   const EdgeOperator<Scalar>& edges = system.edges;
   if (edges.valid()) {
     convert(edges.values(), m_single.edges.values(), edges.value_count());
@@ -101,7 +104,26 @@ bool SinglePrecisionMultigrid<Scalar>::update_in_team(const LinearSystem<Scalar>
       m_single.edges.invalidate();
     m_single.constraints.assign(system.constraints);
   });
-  return m_cycle.update_in_team(m_single);
+  if constexpr (std::is_same_v<Scalar, float>) {
+    convert(system.matrix.values(), m_single.matrix.values(), 9 * static_cast<std::size_t>(system.matrix.block_count()));
+    return m_cycle.update_in_team(m_single);
+  } else {
+    if (!m_cycle.reads_fine_diagonal_only(m_single)) {
+      convert(system.matrix.values(), m_single.matrix.values(),
+              9 * static_cast<std::size_t>(system.matrix.block_count()));
+      return m_cycle.update_in_team(m_single);
+    }
+    // The cycle reads the fine matrix's diagonal blocks (the smoother) and level 1's sums: those
+    // from the double matrix, so only the diagonal is rounded (a ninth of the blocks at 33 x 33).
+    const int* diagonal = system.matrix.diagonal().data();
+    const Scalar* from = system.matrix.values();
+    float* to = m_single.matrix.values();
+    team_for(system.block_rows(), [&](int r) {
+      const std::size_t k = 9 * static_cast<std::size_t>(diagonal[r]);
+      for (std::size_t q = k; q < k + 9; ++q) to[q] = static_cast<float>(from[q]);
+    });
+    return m_cycle.update_in_team(m_single, system.matrix);
+  }
 }
 
 template <class Scalar>
