@@ -752,7 +752,7 @@ void bind_options(nb::module_& m) {
             o.contact_rounds = contact_rounds;
             new (self) Options(o);
           },
-          "dt"_a = 0.0005, "threads"_a = 0, "jacobian"_a = "spd", "solver"_a = "cg", "preconditioner"_a = "multigrid",
+          "dt"_a = 0.0005, "threads"_a = 0, "jacobian"_a = "spd", "solver"_a = "cg", "preconditioner"_a = "multigrid-float",
           "tolerance"_a = 1e-6, "max_iterations"_a = 2000, "pin_treatment"_a = "eliminate", "newton_iterations"_a = 1,
           "newton_tolerance"_a = 1e-6, "contact_rounds"_a = 2,
           "Names are the library's (option_names()); a wrong one raises InvalidParameter listing the names.")
@@ -767,7 +767,7 @@ void bind_options(nb::module_& m) {
       .def_prop_rw(
           "preconditioner", [](const Options& o) { return std::string(drape::to_string(o.preconditioner)); },
           [](Options& o, const std::string& n) { o.preconditioner = drape::parse<drape::PreconditionerKind>(n); },
-          "cg's preconditioner: 'multigrid' (default), 'multigrid-float' (the V-cycle in single precision) or 'block-jacobi'.")
+          "cg's preconditioner: 'multigrid-float' (default: the V-cycle in single precision inside the double CG), 'multigrid' or 'block-jacobi'.")
       .def_rw("tolerance", &Options::tolerance, "Relative residual of the iterative solvers, (0, 1).")
       .def_rw("max_iterations", &Options::max_iterations, "Iteration cap of the iterative solvers, >= 1.")
       .def_prop_rw(
