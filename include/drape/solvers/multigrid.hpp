@@ -1,6 +1,7 @@
 #pragma once
 /// \file multigrid.hpp
-/// Geometric multigrid V-cycle on the cloth's lattice: the default preconditioner of CG (pcg.hpp).
+/// Geometric multigrid V-cycle on the cloth's lattice: the preconditioner of CG (pcg.hpp), in
+/// double, or in float inside the double CG (single_precision_multigrid.hpp, the default).
 ///
 /// Why: the implicit system is M plus dt^2 times a stiffness "Laplacian" of the lattice, so its
 /// condition number grows with ks dt^2 / m and with the grid; block-Jacobi CG needed 120-190
