@@ -23,7 +23,6 @@
 /// Everything is split over the team in fixed shares: results depend on the thread count only.
 /// After analyze(), nothing allocates.
 
-#include <type_traits>
 #include <vector>
 
 #include "drape/core/team.hpp"
@@ -104,26 +103,20 @@ bool SinglePrecisionMultigrid<Scalar>::update_in_team(const LinearSystem<Scalar>
       m_single.edges.invalidate();
     m_single.constraints.assign(system.constraints);
   });
-  if constexpr (std::is_same_v<Scalar, float>) {
+  if (!m_cycle.reads_fine_diagonal_only(m_single)) {
     convert(system.matrix.values(), m_single.matrix.values(), 9 * static_cast<std::size_t>(system.matrix.block_count()));
     return m_cycle.update_in_team(m_single);
-  } else {
-    if (!m_cycle.reads_fine_diagonal_only(m_single)) {
-      convert(system.matrix.values(), m_single.matrix.values(),
-              9 * static_cast<std::size_t>(system.matrix.block_count()));
-      return m_cycle.update_in_team(m_single);
-    }
-    // The cycle reads the fine matrix's diagonal blocks (the smoother) and level 1's sums: those
-    // from the double matrix, so only the diagonal is rounded (a ninth of the blocks at 33 x 33).
-    const int* diagonal = system.matrix.diagonal().data();
-    const Scalar* from = system.matrix.values();
-    float* to = m_single.matrix.values();
-    team_for(system.block_rows(), [&](int r) {
-      const std::size_t k = 9 * static_cast<std::size_t>(diagonal[r]);
-      for (std::size_t q = k; q < k + 9; ++q) to[q] = static_cast<float>(from[q]);
-    });
-    return m_cycle.update_in_team(m_single, system.matrix);
   }
+  // The cycle reads the fine matrix's diagonal blocks (the smoother) and level 1's sums: those
+  // from the system's own matrix, so only the diagonal is rounded (a ninth of the blocks at 33 x 33).
+  const int* diagonal = system.matrix.diagonal().data();
+  const Scalar* from = system.matrix.values();
+  float* to = m_single.matrix.values();
+  team_for(system.block_rows(), [&](int r) {
+    const std::size_t k = 9 * static_cast<std::size_t>(diagonal[r]);
+    for (std::size_t q = k; q < k + 9; ++q) to[q] = static_cast<float>(from[q]);
+  });
+  return m_cycle.update_in_team(m_single, system.matrix);
 }
 
 template <class Scalar>
