@@ -7,13 +7,12 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/LU>
-
 #include "drape/fwd.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
 #include "drape/solvers/enable_ldlt.hpp"
 #include "drape/solvers/enable_lu.hpp"
 #include "drape/solvers/solver_registry.hpp"
+#include "support/dense.hpp"
 #include "test_common.hpp"
 
 using namespace drape;
@@ -65,7 +64,7 @@ double relative_difference(const VectorX<double>& a, const VectorX<double>& b) {
 
 TEST_CASE("every solver gives the dense solution of the symmetric (SPD) system", "[solvers]") {
   const System s = make_system(JacobianVariant::Spd);
-  const VectorX<double> reference = s.a.to_dense().lu().solve(s.b);
+  const VectorX<double> reference = test::solve_general(s.a.to_dense(), s.b);
   for (const LinearSolverKind name : available_solvers()) {
     INFO(to_string(name));
     CHECK(relative_difference(solve_with(name, s), reference) < 1e-8);
@@ -76,7 +75,7 @@ TEST_CASE("the non-symmetric solvers solve the Exact system", "[solvers]") {
   const System s = make_system(JacobianVariant::Exact);
   const Eigen::MatrixXd dense = s.a.to_dense();
   REQUIRE((dense - dense.transpose()).cwiseAbs().maxCoeff() > 1e-6);
-  const VectorX<double> reference = dense.lu().solve(s.b);
+  const VectorX<double> reference = test::solve_general(dense, s.b);
   for (const LinearSolverKind name : available_solvers()) {
     if (solver_info(name).capabilities.symmetric_only) continue;
     INFO(to_string(name));

@@ -18,6 +18,9 @@
 #include "drape/core/enum_names.hpp"
 #include "drape/core/pin_path.hpp"
 #include "drape/fwd.hpp"
+// Every program that links drape_scene_file (drape-render, the Python module, the fuzzers) uses
+// drape's compiled instances (drape_instances) instead of compiling them in each source.
+#include "drape/instances.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/integrator.hpp"
 #include "drape/physics/air.hpp"

@@ -1,0 +1,6 @@
+// drape's class templates for double (drape/instances.hpp).
+#include "drape/instances.hpp"
+
+namespace drape {
+DRAPE_INSTANCES(template class, double)
+}  // namespace drape

@@ -1,0 +1,6 @@
+// drape's cloth model, forces, collisions, integrators and scene for float (drape/instances.hpp).
+#include "drape/instances.hpp"
+
+namespace drape {
+DRAPE_MODEL_INSTANCES(template class, float)
+}  // namespace drape
