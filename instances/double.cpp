@@ -2,5 +2,5 @@
 #include "drape/instances.hpp"
 
 namespace drape {
-DRAPE_INSTANCES(template class, double)
+DRAPE_INSTANCES(template, double)
 }  // namespace drape

@@ -2,5 +2,5 @@
 #include "drape/instances.hpp"
 
 namespace drape {
-DRAPE_MODEL_INSTANCES(template class, float)
+DRAPE_MODEL_INSTANCES(template, float)
 }  // namespace drape

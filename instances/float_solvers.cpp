@@ -3,5 +3,5 @@
 #include "drape/instances.hpp"
 
 namespace drape {
-DRAPE_SOLVER_INSTANCES(template class, float)
+DRAPE_SOLVER_INSTANCES(template, float)
 }  // namespace drape

@@ -1,14 +1,18 @@
 #pragma once
 // Brute-force checks of a triangle mesh for cloth self-collision tests: does any pair of triangles
-// intersect, and how close do primitives that share no vertex come. All pairs, with an
-// axis-aligned box reject first; simple on purpose, they are the reference the collision code is
-// judged by.
+// intersect, and how close do primitives that share no vertex come. Every pair is decided, after
+// an axis-aligned box reject; pairs whose extents along x are apart are rejected together by a
+// sweep over the boxes sorted along x (the same answers as testing all pairs one by one: the
+// `_all_pairs` versions, which test_geometry compares them with). Simple on purpose and
+// independent of drape's broad phase: they are the reference the collision code is judged by.
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <numeric>
+#include <utility>
 #include <vector>
 
 #include "drape/collision/primitive_distance.hpp"
@@ -140,6 +144,21 @@ S box_distance_squared(const Box3<S>& a, const Box3<S>& b) {
   return gap.squaredNorm();
 }
 
+/// visit(i, j) for every pair of boxes i != j (each pair once) whose extents along x are at most
+/// reach() apart; reach() is read again for every box, so a bound that shrinks as the visits go
+/// on prunes more. Sorted by their low x, the boxes after box a are ever farther from it along x.
+template <class S, class Reach, class Visit>
+void sweep_along_x(const std::vector<Box3<S>>& boxes, Reach reach, Visit visit) {
+  std::vector<int> order(boxes.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return boxes[std::size_t(a)].low.x() < boxes[std::size_t(b)].low.x(); });
+  for (std::size_t a = 0; a < order.size(); ++a) {
+    const S high = boxes[std::size_t(order[a])].high.x(), limit = reach();
+    for (std::size_t b = a + 1; b < order.size() && boxes[std::size_t(order[b])].low.x() - high <= limit; ++b)
+      visit(order[a], order[b]);
+  }
+}
+
 }  // namespace check_detail
 
 /// Do the closed triangles a0 a1 a2 and b0 b1 b2 intersect? Conservative: it never answers false
@@ -177,66 +196,140 @@ struct MeshIntersection {
   int tri_b;
 };
 
-/// The first pair of triangles that share no vertex and intersect (triangles_intersect), all pairs
-/// after an exact box-overlap reject.
+/// Do triangles i and j share no vertex, and intersect?
+template <class S>
+bool disjoint_triangles_intersect(const Matrix3X<S>& x, const std::array<int, 3>& ti, const std::array<int, 3>& tj) {
+  for (int a : ti)
+    for (int b : tj)
+      if (a == b) return false;
+  return triangles_intersect<S>(x.col(ti[0]), x.col(ti[1]), x.col(ti[2]), x.col(tj[0]), x.col(tj[1]), x.col(tj[2]));
+}
+
+/// The first pair of triangles (in the order of the triangle list) that share no vertex and
+/// intersect (triangles_intersect): every pair whose boxes overlap is tested.
 template <class S>
 MeshIntersection first_intersection(const Matrix3X<S>& x, const std::vector<std::array<int, 3>>& triangles) {
-  const int count = int(triangles.size());
   std::vector<check_detail::Box3<S>> boxes;
   boxes.reserve(triangles.size());
   for (const auto& t : triangles) boxes.push_back(check_detail::box_of<S>(x.col(t[0]), x.col(t[1]), x.col(t[2])));
-  for (int i = 0; i < count; ++i) {
-    const auto& ti = triangles[std::size_t(i)];
-    for (int j = i + 1; j < count; ++j) {
-      if (!check_detail::boxes_overlap(boxes[std::size_t(i)], boxes[std::size_t(j)])) continue;
-      const auto& tj = triangles[std::size_t(j)];
-      bool shared = false;
-      for (int a : ti)
-        for (int b : tj) shared |= a == b;
-      if (shared) continue;
-      if (triangles_intersect<S>(x.col(ti[0]), x.col(ti[1]), x.col(ti[2]), x.col(tj[0]), x.col(tj[1]), x.col(tj[2])))
-        return {true, i, j};
-    }
-  }
+  std::vector<std::pair<int, int>> overlapping;
+  check_detail::sweep_along_x(
+      boxes, [] { return S(0); },
+      [&](int i, int j) {
+        if (check_detail::boxes_overlap(boxes[std::size_t(i)], boxes[std::size_t(j)]))
+          overlapping.emplace_back(std::min(i, j), std::max(i, j));
+      });
+  std::sort(overlapping.begin(), overlapping.end());
+  for (const auto& [i, j] : overlapping)
+    if (disjoint_triangles_intersect(x, triangles[std::size_t(i)], triangles[std::size_t(j)])) return {true, i, j};
   return {false, -1, -1};
 }
+
+/// first_intersection() by testing all pairs one by one (the reference the sweep is checked against).
+template <class S>
+MeshIntersection first_intersection_all_pairs(const Matrix3X<S>& x, const std::vector<std::array<int, 3>>& triangles) {
+  const int count = int(triangles.size());
+  std::vector<check_detail::Box3<S>> boxes;
+  for (const auto& t : triangles) boxes.push_back(check_detail::box_of<S>(x.col(t[0]), x.col(t[1]), x.col(t[2])));
+  for (int i = 0; i < count; ++i)
+    for (int j = i + 1; j < count; ++j)
+      if (check_detail::boxes_overlap(boxes[std::size_t(i)], boxes[std::size_t(j)]) &&
+          disjoint_triangles_intersect(x, triangles[std::size_t(i)], triangles[std::size_t(j)]))
+        return {true, i, j};
+  return {false, -1, -1};
+}
+
+namespace check_detail {
+
+/// The edges of the triangles, each once, as (smaller, larger) node ids.
+inline std::vector<std::array<int, 2>> edges_of(const std::vector<std::array<int, 3>>& triangles) {
+  std::vector<std::array<int, 2>> edges;
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) edges.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+/// Squared distance of vertex v to triangle t, if t does not contain v and their boxes are not
+/// farther apart than sqrt(best); best otherwise.
+template <class S>
+S vertex_triangle(const Matrix3X<S>& x, Index v, const std::array<int, 3>& t, const Box3<S>& t_box, S best) {
+  if (t[0] == v || t[1] == v || t[2] == v) return best;
+  const Vec3<S> p = x.col(v);
+  if (box_distance_squared(Box3<S>{p, p}, t_box) > best) return best;
+  return std::min(best, closest_point_on_triangle<S>(p, x.col(t[0]), x.col(t[1]), x.col(t[2])).distance_squared);
+}
+
+/// Squared distance of edges e and f, if they share no vertex and their boxes are not farther
+/// apart than sqrt(best); best otherwise.
+template <class S>
+S edge_edge(const Matrix3X<S>& x, const std::array<int, 2>& e, const std::array<int, 2>& f, const Box3<S>& e_box,
+            const Box3<S>& f_box, S best) {
+  if (e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1]) return best;
+  if (box_distance_squared(e_box, f_box) > best) return best;
+  return std::min(best,
+                  closest_points_on_segments<S>(x.col(e[0]), x.col(e[1]), x.col(f[0]), x.col(f[1])).distance_squared);
+}
+
+/// A little more than sqrt(best_squared): the sweeps' reach, so that no rounding of theirs skips a
+/// pair the box test would keep.
+template <class S>
+S generous_reach(S best_squared) {
+  return std::sqrt(best_squared) * S(1.001);
+}
+
+}  // namespace check_detail
 
 /// The smallest distance between a vertex and a triangle that does not contain it, or between two
 /// edges that share no vertex (infinity if there is no such pair). Every vertex of x counts; the
 /// edges are those of the triangles. Pairs whose boxes are farther apart than the smallest distance
-/// so far are skipped.
+/// so far are skipped, along x by sweeps.
 template <class S>
 S min_nonadjacent_distance(const Matrix3X<S>& x, const std::vector<std::array<int, 3>>& triangles) {
+  using check_detail::Box3;
   S best = std::numeric_limits<S>::infinity();  // squared
-  std::vector<check_detail::Box3<S>> triangle_boxes;
-  std::vector<std::array<int, 2>> edges;
+  // Vertex-triangle: for each triangle, the vertices whose x is within reach of its box's.
+  std::vector<Index> by_x(std::size_t(x.cols()));
+  std::iota(by_x.begin(), by_x.end(), Index(0));
+  std::sort(by_x.begin(), by_x.end(), [&](Index a, Index b) { return x(0, a) < x(0, b); });
   for (const auto& t : triangles) {
-    triangle_boxes.push_back(check_detail::box_of<S>(x.col(t[0]), x.col(t[1]), x.col(t[2])));
-    for (int k = 0; k < 3; ++k) edges.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+    const Box3<S> box = check_detail::box_of<S>(x.col(t[0]), x.col(t[1]), x.col(t[2]));
+    const S reach = check_detail::generous_reach(best);
+    auto v = std::lower_bound(by_x.begin(), by_x.end(), box.low.x() - reach,
+                              [&](Index a, S value) { return x(0, a) < value; });
+    for (; v != by_x.end() && x(0, *v) <= box.high.x() + reach; ++v)
+      best = check_detail::vertex_triangle(x, *v, t, box, best);
   }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-
-  for (Index v = 0; v < x.cols(); ++v) {
-    const Vec3<S> p = x.col(v);
-    const check_detail::Box3<S> point{p, p};
-    for (std::size_t f = 0; f < triangles.size(); ++f) {
-      const auto& t = triangles[f];
-      if (t[0] == v || t[1] == v || t[2] == v) continue;
-      if (check_detail::box_distance_squared(point, triangle_boxes[f]) > best) continue;
-      best = std::min(best, closest_point_on_triangle<S>(p, x.col(t[0]), x.col(t[1]), x.col(t[2])).distance_squared);
-    }
-  }
-  std::vector<check_detail::Box3<S>> edge_boxes;
+  // Edge-edge.
+  const std::vector<std::array<int, 2>> edges = check_detail::edges_of(triangles);
+  std::vector<Box3<S>> edge_boxes;
   for (const auto& e : edges) edge_boxes.push_back(check_detail::box_of<S>(x.col(e[0]), x.col(e[1])));
+  check_detail::sweep_along_x(
+      edge_boxes, [&] { return check_detail::generous_reach(best); },
+      [&](int a, int b) {  // in the order of the list, as the closest points' rounding depends on it
+        const std::size_t i = std::size_t(std::min(a, b)), j = std::size_t(std::max(a, b));
+        best = check_detail::edge_edge(x, edges[i], edges[j], edge_boxes[i], edge_boxes[j], best);
+      });
+  return std::sqrt(best);
+}
+
+/// min_nonadjacent_distance() by testing all pairs one by one (the reference the sweeps are
+/// checked against).
+template <class S>
+S min_nonadjacent_distance_all_pairs(const Matrix3X<S>& x, const std::vector<std::array<int, 3>>& triangles) {
+  using check_detail::Box3;
+  S best = std::numeric_limits<S>::infinity();  // squared
+  for (Index v = 0; v < x.cols(); ++v)
+    for (const auto& t : triangles)
+      best = check_detail::vertex_triangle(x, v, t, check_detail::box_of<S>(x.col(t[0]), x.col(t[1]), x.col(t[2])), best);
+  const std::vector<std::array<int, 2>> edges = check_detail::edges_of(triangles);
   for (std::size_t i = 0; i < edges.size(); ++i)
     for (std::size_t j = i + 1; j < edges.size(); ++j) {
       const auto& e = edges[i];
       const auto& f = edges[j];
-      if (e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1]) continue;
-      if (check_detail::box_distance_squared(edge_boxes[i], edge_boxes[j]) > best) continue;
-      best = std::min(
-          best, closest_points_on_segments<S>(x.col(e[0]), x.col(e[1]), x.col(f[0]), x.col(f[1])).distance_squared);
+      best = check_detail::edge_edge(x, e, f, check_detail::box_of<S>(x.col(e[0]), x.col(e[1])),
+                                     check_detail::box_of<S>(x.col(f[0]), x.col(f[1])), best);
     }
   return std::sqrt(best);
 }

@@ -455,3 +455,31 @@ TEMPLATE_TEST_CASE("min_nonadjacent_distance: adjacency is skipped; vertex-face 
       0, 0, 0, S(0.2), 3, 3;
   CHECK(std::abs(double(test::min_nonadjacent_distance<S>(over, {{0, 1, 2}, {3, 4, 5}})) - 0.2) < 1e-6);
 }
+
+TEMPLATE_TEST_CASE("mesh checks: the sweeps along x find what testing all pairs one by one finds",
+                   "[collision][mesh_checks]", float, double) {
+  using S = TestType;
+  // A folded grid whose nodes are moved at random: by a little (no intersection, the layers 0 to
+  // 2 gaps apart) and by more than the gap (layers through each other), for several seeds.
+  const int n = 17;
+  const double h = 0.1, gap = 0.025;
+  const std::vector<std::array<int, 3>> triangles = Grid<S>(n, n, S(h), S(1)).triangles();
+  int intersecting = 0;
+  for (const double amplitude : {0.4 * gap, 3.0 * gap})
+    for (unsigned seed = 1; seed <= 4; ++seed) {
+      INFO("amplitude " << amplitude << ", seed " << seed);
+      std::mt19937 rng(seed);
+      std::uniform_real_distribution<double> u(-amplitude, amplitude);
+      Matrix3X<S> x = folded_grid<S>(n, h, gap);
+      for (Index i = 0; i < x.size(); ++i) x.data()[i] += S(u(rng));
+      const test::MeshIntersection swept = test::first_intersection(x, triangles);
+      const test::MeshIntersection all = test::first_intersection_all_pairs(x, triangles);
+      CHECK(swept.found == all.found);
+      CHECK(swept.tri_a == all.tri_a);
+      CHECK(swept.tri_b == all.tri_b);
+      intersecting += all.found;
+      CHECK(test::min_nonadjacent_distance(x, triangles) == test::min_nonadjacent_distance_all_pairs(x, triangles));
+    }
+  CHECK(intersecting >= 3);  // both answers occur
+  CHECK(intersecting <= 5);
+}

@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "drape/core/collider.hpp"
@@ -73,45 +74,12 @@ template <class Scalar = double>
 class Cloth {
  public:
   /// \throws InvalidParameter naming the first invalid parameter of `spec`.
-  explicit Cloth(const ClothSpec<Scalar>& spec)
-      : m_grid((spec.validate(), Grid<Scalar>(spec.nx, spec.ny, spec.spacing, spec.node_mass))),
-        m_springs(m_grid, spec.springs),
-        m_pins(spec.pinned_nodes ? Pins(*spec.pinned_nodes, m_grid.node_count()) : Pins::preset(spec.boundary, m_grid)),
-        m_gravity(Scalar(0), -spec.gravity, Scalar(0)),
-        m_force_terms(spec.force_terms),
-        m_colliders(spec.colliders),
-        m_contact_thickness(spec.contact_thickness),
-        m_self_collision(spec.self_collision),
-        m_start_positions(spec.placement.apply(m_grid.rest_positions())) {
-    require_pins_clear_of_colliders();
-  }
+  explicit Cloth(const ClothSpec<Scalar>& spec);
 
   Cloth(Grid<Scalar> grid, SpringSet<Scalar> springs, Pins pins, const Vec3<Scalar>& gravity,
         std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms = {},
         std::vector<Collider<Scalar>> colliders = {}, Scalar contact_thickness = Scalar(0.005),
-        SelfCollisionSettings<Scalar> self_collision = {}, const Placement<Scalar>& placement = {})
-      : m_grid(std::move(grid)),
-        m_springs(std::move(springs)),
-        m_pins(std::move(pins)),
-        m_gravity(gravity),
-        m_force_terms(std::move(force_terms)),
-        m_colliders(std::move(colliders)),
-        m_contact_thickness(contact_thickness),
-        m_self_collision(self_collision) {
-    placement.validate();
-    m_start_positions = placement.apply(m_grid.rest_positions());
-    if (m_pins.mask().size() != static_cast<std::size_t>(m_grid.node_count()))
-      detail::fail_argument("pins", "a pin set for " + detail::to_text(m_pins.mask().size()) + " nodes",
-                            "a pin set built for this grid's " + detail::to_text(m_grid.node_count()) + " nodes");
-    if (!m_gravity.allFinite()) detail::fail_argument("gravity", "non-finite vector", "finite");
-    for (const auto& term : m_force_terms)
-      if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
-    detail::require_nonnegative_finite("contact thickness", m_contact_thickness);
-    m_self_collision.validate();
-    if (m_self_collision.enabled && !(m_contact_thickness > 0))
-      detail::fail_argument("contact thickness", "0 with self-collision on", "> 0 (layers keep twice it apart)");
-    require_pins_clear_of_colliders();
-  }
+        SelfCollisionSettings<Scalar> self_collision = {}, const Placement<Scalar>& placement = {});
 
   const Grid<Scalar>& grid() const { return m_grid; }
   const SpringSet<Scalar>& springs() const { return m_springs; }
@@ -157,15 +125,62 @@ class Cloth {
 
   /// \throws InvalidParameter naming `colliders[k]` if a pinned node starts closer than the
   /// contact thickness to collider k (it could never be pushed out).
-  void require_pins_clear_of_colliders() const {
-    const Matrix3X<Scalar>& x = m_start_positions;
-    for (std::size_t k = 0; k < m_colliders.size(); ++k)
-      for (int p : m_pins.nodes())
-        if (m_colliders[k].query(x.col(p), Scalar(0)).distance < m_contact_thickness)
-          detail::fail_argument("colliders[" + detail::to_text(k) + "]",
-                                "a collider touching pinned node " + detail::to_text(p) + " at the start",
-                                "colliders clear of every pinned node by the contact thickness");
-  }
+  void require_pins_clear_of_colliders() const;
 };
+
+// ---------------------------------------------------------------------------------------------
+
+template <class Scalar>
+Cloth<Scalar>::Cloth(const ClothSpec<Scalar>& spec)
+    : m_grid((spec.validate(), Grid<Scalar>(spec.nx, spec.ny, spec.spacing, spec.node_mass))),
+      m_springs(m_grid, spec.springs),
+      m_pins(spec.pinned_nodes ? Pins(*spec.pinned_nodes, m_grid.node_count()) : Pins::preset(spec.boundary, m_grid)),
+      m_gravity(Scalar(0), -spec.gravity, Scalar(0)),
+      m_force_terms(spec.force_terms),
+      m_colliders(spec.colliders),
+      m_contact_thickness(spec.contact_thickness),
+      m_self_collision(spec.self_collision),
+      m_start_positions(spec.placement.apply(m_grid.rest_positions())) {
+  require_pins_clear_of_colliders();
+}
+
+template <class Scalar>
+Cloth<Scalar>::Cloth(Grid<Scalar> grid, SpringSet<Scalar> springs, Pins pins, const Vec3<Scalar>& gravity,
+                     std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms,
+                     std::vector<Collider<Scalar>> colliders, Scalar contact_thickness,
+                     SelfCollisionSettings<Scalar> self_collision, const Placement<Scalar>& placement)
+    : m_grid(std::move(grid)),
+      m_springs(std::move(springs)),
+      m_pins(std::move(pins)),
+      m_gravity(gravity),
+      m_force_terms(std::move(force_terms)),
+      m_colliders(std::move(colliders)),
+      m_contact_thickness(contact_thickness),
+      m_self_collision(self_collision) {
+  placement.validate();
+  m_start_positions = placement.apply(m_grid.rest_positions());
+  if (m_pins.mask().size() != static_cast<std::size_t>(m_grid.node_count()))
+    detail::fail_argument("pins", "a pin set for " + detail::to_text(m_pins.mask().size()) + " nodes",
+                          "a pin set built for this grid's " + detail::to_text(m_grid.node_count()) + " nodes");
+  if (!m_gravity.allFinite()) detail::fail_argument("gravity", "non-finite vector", "finite");
+  for (const auto& term : m_force_terms)
+    if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
+  detail::require_nonnegative_finite("contact thickness", m_contact_thickness);
+  m_self_collision.validate();
+  if (m_self_collision.enabled && !(m_contact_thickness > 0))
+    detail::fail_argument("contact thickness", "0 with self-collision on", "> 0 (layers keep twice it apart)");
+  require_pins_clear_of_colliders();
+}
+
+template <class Scalar>
+void Cloth<Scalar>::require_pins_clear_of_colliders() const {
+  const Matrix3X<Scalar>& x = m_start_positions;
+  for (std::size_t k = 0; k < m_colliders.size(); ++k)
+    for (int p : m_pins.nodes())
+      if (m_colliders[k].query(x.col(p), Scalar(0)).distance < m_contact_thickness)
+        detail::fail_argument("colliders[" + detail::to_text(k) + "]",
+                              "a collider touching pinned node " + detail::to_text(p) + " at the start",
+                              "colliders clear of every pinned node by the contact thickness");
+}
 
 }  // namespace drape
