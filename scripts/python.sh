@@ -4,8 +4,9 @@
 # drape-render (the C++ program the bit-identity tests compare against) and runs pytest.
 #   scripts/python.sh [pytest arguments...]        e.g. scripts/python.sh -k bit_identity
 # Build folders: build/py-<wheel tag> (the module, kept, so a second run only relinks what
-# changed) and build/py-ref (drape-render, unless DRAPE_RENDER names one). DRAPE_JOBS sets the
-# parallel compile jobs (default: all cores).
+# changed; DRAPE_PYTHON_BUILD_DIR names another CMake tree to build it in, below) and build/py-ref
+# (drape-render, unless DRAPE_RENDER names one). DRAPE_JOBS sets the parallel compile jobs
+# (default: all cores).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh python
@@ -22,7 +23,27 @@ pip=("$venv/bin/python" -m pip --disable-pip-version-check -q)
 # and the venv uses Debian 12's numpy 1.24.
 "${pip[@]}" install "scikit-build-core>=0.10" "nanobind>=2.2" pytest numpy matplotlib \
   dask distributed "pyarrow<20" tqdm
-CMAKE_BUILD_PARALLEL_LEVEL=$jobs "${pip[@]}" install --no-build-isolation ./
+# DRAPE_PYTHON_BUILD_DIR: build the module in that CMake tree (scripts/test.sh passes build/release),
+# with the tree's own options, so it links the objects already compiled there (the compiled
+# instances, the viewer and scene-file libraries are position-independent) instead of compiling them
+# again in build/py-<wheel tag>.
+reuse=()
+if [ -n "${DRAPE_PYTHON_BUILD_DIR:-}" ]; then
+  cache="$DRAPE_PYTHON_BUILD_DIR/CMakeCache.txt"
+  [ -f "$cache" ] || { echo "python.sh: DRAPE_PYTHON_BUILD_DIR has no CMakeCache.txt: $cache" >&2; exit 2; }
+  reuse=(--config-settings "build-dir=$DRAPE_PYTHON_BUILD_DIR")
+  prefix=$(sed -n 's/^CMAKE_INSTALL_PREFIX:[A-Z]*=//p' "$cache")
+  with_python=$(sed -n 's/^DRAPE_BUILD_PYTHON:[A-Z]*=//p' "$cache")
+  for option in DRAPE_BUILD_TESTS DRAPE_BUILD_EXAMPLES DRAPE_BUILD_BENCHMARKS DRAPE_WITH_SUITESPARSE; do
+    value=$(sed -n "s/^$option:[A-Z]*=//p" "$cache")
+    [ -n "$value" ] && reuse+=(--config-settings "cmake.define.$option=$value")
+  done
+fi
+CMAKE_BUILD_PARALLEL_LEVEL=$jobs "${pip[@]}" install --no-build-isolation "${reuse[@]}" ./
+if [ -n "${DRAPE_PYTHON_BUILD_DIR:-}" ]; then
+  # The tree's own install prefix and Python switch back (pip's configure set a temporary prefix).
+  cmake -S . -B "$DRAPE_PYTHON_BUILD_DIR" -DCMAKE_INSTALL_PREFIX="$prefix" -DDRAPE_BUILD_PYTHON="$with_python" >/dev/null
+fi
 
 # The C++ program the bit-identity tests compare against: DRAPE_RENDER if given (scripts/test.sh
 # passes the one it built), else built here.

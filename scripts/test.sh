@@ -10,4 +10,5 @@ cmake --preset release -DDRAPE_BUILD_TESTS=ON -DDRAPE_BUILD_EXAMPLES=ON -DDRAPE_
 cmake --build --preset release
 ctest --preset release -j2 --no-tests=error
 # The Python package and its tests (pytest), against the drape-render built above.
-DRAPE_RENDER="$PWD/build/release/viewer/drape-render" scripts/python.sh
+# The module is built in build/release, linking the libraries compiled above.
+DRAPE_PYTHON_BUILD_DIR=build/release DRAPE_RENDER="$PWD/build/release/viewer/drape-render" scripts/python.sh
