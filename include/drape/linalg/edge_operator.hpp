@@ -7,7 +7,7 @@
 /// so that \f$ A p = m \circ p + B p + \sum_e \pm C_e (p_{a_e} - p_{b_e}) \f$: one 3x3 product per edge
 /// instead of two per edge in block CSR, and about a third of the bytes. Solvers use it for the
 /// product when it is valid; on a team it costs a barrier per colour, which the halved work pays
-/// for (bench/analysis.md).
+/// for (measured).
 ///
 /// - Structure (set once): the two block rows of every edge (-1 for an end that is not in the
 ///   system: its unknowns are zero), the edges grouped in colours in which no two edges share a row

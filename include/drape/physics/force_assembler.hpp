@@ -10,8 +10,7 @@
 /// storage):
 /// 0. `copy_input`: the positions and velocities (3 x n, the components of a node side by side)
 ///    copied to one array per component, so that the spring pass loads whole vectors instead of
-///    every third value (the copy costs a fraction of what the strided loads cost: bench/analysis.md,
-///    session 14).
+///    every third value (the copy costs a fraction of what the strided loads cost, measured).
 /// 1. `spring_pass`: every spring's force on its first node, run by run, into per-family force
 ///    slots. A run's ends are contiguous in memory, so the loop vectorises (SSE2 by default).
 /// 2. `node_pass`: every node sums gravity, its springs' slots and the force terms' share, in
@@ -120,7 +119,7 @@ __attribute__((target("avx2"))) inline void spring_run_avx2(const NodeView<Scala
 template <class Scalar = double>
 class ForceAssembler {
  public:
-  /// Springs per thread below which extra threads are not woken (measured: bench/analysis.md).
+  /// Springs per thread below which extra threads are not woken (measured).
   static constexpr long long min_springs_per_thread = 2048;
   /// Nodes per block of node_pass: fixed, so the work per node does not depend on the threads.
   static constexpr int block_nodes = 64;

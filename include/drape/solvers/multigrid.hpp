@@ -22,7 +22,7 @@
 ///   constrained rows are identity rows on the finest level and their coupling is gone from the
 ///   coarse operators; CG filters the cycle's output (pcg.hpp). Built from A itself, the cycle
 ///   kept correcting constrained unknowns through the coarse levels: 94 instead of ~16 CG
-///   iterations per step with moving pins, 2-3x with contacts (bench/analysis.md). With routing
+///   iterations per step with moving pins, 2-3x with contacts. With routing
 ///   (multigrid_hierarchy.hpp), level 1 is summed from \f$ S A' S + I - S \f$, the routed
 ///   operator filtered the same way.
 
@@ -253,8 +253,8 @@ template <class Scalar>
 void MultigridPreconditioner<Scalar>::residual(int l, const Scalar* b, const Scalar* x, Scalar* r, bool team) const {
   const BlockSparseMatrix<Scalar>& m = matrix(l);
   // The finest level's edge form is the cheaper product (one 3x3 block per edge instead of two,
-  // linalg/edge_operator.hpp), also on a team, where it costs a barrier per colour (measured:
-  // bench/analysis.md). Not when one thread of a team runs the level: the edge product shares
+  // linalg/edge_operator.hpp), also on a team, where it costs a barrier per colour (measured
+  // faster). Not when one thread of a team runs the level: the edge product shares
   // its loops with the team.
   if (l == 0 && (team || team_size() == 1) && m_fine == &m_system->matrix && m_system->edges.valid()) {
     m_system->edges.multiply_in_team(x, r);

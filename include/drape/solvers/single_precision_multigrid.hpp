@@ -5,7 +5,7 @@
 ///
 /// Why: at dt = 1/60 a step is about ten V-cycles, and a V-cycle mostly streams the system's
 /// values and its level vectors; at 33 x 33 they no longer fit a 512 KiB L2, so the step waits on
-/// bytes (bench/analysis.md, "Session 17"). A preconditioner only has to approximate A^-1: float's
+/// bytes. A preconditioner only has to approximate A^-1: float's
 /// seven digits change nothing CG can see (the same iterations, measured), while CG keeps the
 /// residual, the iterate and the product with A in double, so the solution's accuracy is the
 /// double solve's. The V-cycle's loops have float AVX2 versions (four or eight lanes), so it
