@@ -1,5 +1,5 @@
 // libFuzzer target: drape-render's command-line handling (CLI11 parsing, flag values, validation)
-// through drape::render::parse_settings(). The input is split into arguments at newlines. Any
+// through drape::scene_file::parse_settings(). The input is split into arguments at newlines. Any
 // outcome but success, a CLI11 parse error turned into an exit code, or SettingsError is a bug.
 // --scene is skipped (fuzz_scene covers scene files) so that no input makes the parser read
 // arbitrary files such as /dev/zero.
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "render_settings.hpp"
+#include "drape/scene_file/command_line.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::vector<std::string> args{"drape-render"};
@@ -27,11 +27,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  drape::render::Settings settings;
+  drape::scene_file::Settings settings;
   int exit_code = 0;
   try {
-    drape::render::parse_settings(static_cast<int>(args.size()), argv.data(), settings, exit_code);
-  } catch (const drape::render::SettingsError&) {
+    drape::scene_file::parse_settings(static_cast<int>(args.size()), argv.data(), settings, exit_code);
+  } catch (const drape::scene_file::SettingsError&) {
   }
   return 0;
 }

@@ -1,5 +1,5 @@
 // libFuzzer target: drape-render's scene-file handling (toml++ parse, key lookup, typed values,
-// validation) through drape::render::parse_settings("--scene <file>"). It must either accept the
+// validation) through drape::scene_file::read_settings(file). It must either accept the
 // file or throw SettingsError; any other exception escapes and is reported as a crash (in
 // drape-render it would end in std::terminate), as are crashes, leaks and undefined behaviour.
 #include <unistd.h>
@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "render_settings.hpp"
+#include "drape/scene_file/command_line.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string path = "/tmp/drape_fuzz_scene_" + std::to_string(::getpid()) + ".toml";
@@ -16,13 +16,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!f) return 0;
   std::fwrite(data, 1, size, f);
   std::fclose(f);
-  std::string a0 = "drape-render", a1 = "--scene", a2 = path;
-  char* argv[] = {a0.data(), a1.data(), a2.data(), nullptr};
-  drape::render::Settings settings;
-  int exit_code = 0;
   try {
-    drape::render::parse_settings(3, argv, settings, exit_code);
-  } catch (const drape::render::SettingsError&) {
+    (void)drape::scene_file::read_settings(path);
+  } catch (const drape::scene_file::SettingsError&) {
   }
   std::remove(path.c_str());
   return 0;

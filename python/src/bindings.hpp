@@ -16,7 +16,8 @@
 #include "drape/core/state.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/scene/cloth_scene.hpp"
-#include "scene_setup.hpp"
+#include "drape/scene_file/build_scene.hpp"
+#include "drape/scene_file/pin_schedule.hpp"
 
 namespace drape::python {
 
@@ -82,7 +83,7 @@ class PyClothScene {
   PyClothScene(const std::vector<ClothSpecWithAir>& specs, drape::IntegratorKind kind,
                const drape::ImplicitOptions& options, const drape::SelfCollisionSettings<double>& collisions);
   /// The scene of a scene file: its cloths, the first one starting from `start`, its moving pins.
-  PyClothScene(std::shared_ptr<const drape::render::Settings> settings, const std::vector<drape::ClothSpecd>& specs,
+  PyClothScene(std::shared_ptr<const drape::scene_file::Settings> settings, const std::vector<drape::ClothSpecd>& specs,
                drape::Stated start);
   PyClothScene(const PyClothScene&) = delete;
   PyClothScene& operator=(const PyClothScene&) = delete;
@@ -98,8 +99,8 @@ class PyClothScene {
  private:
   drape::ClothScene<double> m_scene;
   std::vector<std::unique_ptr<SharedState>> m_states;
-  std::shared_ptr<const drape::render::Settings> m_settings;
-  std::optional<drape::render::PinSchedule> m_schedule;
+  std::shared_ptr<const drape::scene_file::Settings> m_settings;
+  std::optional<drape::scene_file::PinSchedule> m_schedule;
 };
 
 /// The scene-file and renderer bindings (render_bindings.cpp).

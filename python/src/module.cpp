@@ -305,7 +305,7 @@ PyClothScene::PyClothScene(const std::vector<ClothSpecWithAir>& specs, drape::In
   for (int k = 0; k < m_scene.cloth_count(); ++k) m_states.push_back(std::make_unique<SharedState>(m_scene.state(k)));
 }
 
-PyClothScene::PyClothScene(std::shared_ptr<const drape::render::Settings> settings,
+PyClothScene::PyClothScene(std::shared_ptr<const drape::scene_file::Settings> settings,
                            const std::vector<drape::ClothSpecd>& specs, drape::Stated start)
     : m_scene(specs, settings->integrator, settings->stepping, settings->cloth.self_collision),
       m_settings(std::move(settings)) {
@@ -1092,7 +1092,7 @@ NB_MODULE(_drape, m) {
   nb::register_exception_translator(translate_invalid_parameter);
   nb::exception<StepFailed>(m, "SimulationError", PyExc_RuntimeError).attr("__doc__") =
       "A step failed (diverged, or the linear solver failed); the state is as after the last good step.";
-  nb::exception<drape::render::SettingsError>(m, "SceneFileError", PyExc_ValueError).attr("__doc__") =
+  nb::exception<drape::scene_file::SettingsError>(m, "SceneFileError", PyExc_ValueError).attr("__doc__") =
       "A scene file or drape-render flag is invalid; the message names the key or flag.";
   nb::exception<drape::StateFormatError>(m, "StateFormatError", PyExc_ValueError).attr("__doc__") =
       "A state file is missing, truncated, corrupt or of another cloth; the message names the file.";

@@ -1,5 +1,4 @@
-// Scene files (drape-render's parser and scene set-up, viewer/src/render_settings.hpp and
-// scene_setup.hpp) and rendering to PNG with drape-render's offscreen renderer (drape::viewer).
+// Scene files (drape::scene_file, as drape-render reads them) and rendering to PNG with drape-render's offscreen renderer (drape::viewer).
 
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/optional.h>
@@ -19,7 +18,8 @@
 #include "drape/viewer/collider_mesh.hpp"
 #include "drape/viewer/offscreen_context.hpp"
 #include "drape/viewer/png.hpp"
-#include "scene_setup.hpp"
+#include "drape/scene_file/build_scene.hpp"
+#include "drape/scene_file/command_line.hpp"
 
 namespace drape::python {
 
@@ -32,31 +32,20 @@ namespace {
 /// A parsed and validated scene file with drape-render's flags applied, and the scene drape-render
 /// would build from it.
 struct SceneFile {
-  std::shared_ptr<const drape::render::Settings> settings;
-  drape::render::PreparedScene prepared;
+  std::shared_ptr<const drape::scene_file::Settings> settings;
+  drape::scene_file::PreparedScene prepared;
 
   /// Frames of an offline run (drape-render's count: --frames, or enough to cover --duration).
   int frame_count() const {
-    const drape::render::TimeLine& t = settings->time;
+    const drape::scene_file::TimeLine& t = settings->time;
     return t.duration_given ? std::max(1, static_cast<int>(std::ceil(t.duration / t.frame_time - 1e-9)) + 1) : t.frames;
   }
 };
 
 SceneFile load_scene(const std::string& path, const std::vector<std::string>& flags) {
-  std::vector<std::string> args = {"drape", "--scene", path};
-  args.insert(args.end(), flags.begin(), flags.end());
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  auto settings = std::make_shared<drape::render::Settings>();
-  int exit_code = 0;
-  if (!drape::render::parse_settings(int(args.size()), argv.data(), *settings, exit_code)) {
-    std::string given;
-    for (const std::string& f : flags) given += " " + f;
-    throw drape::render::SettingsError("the flags" + given + " are not drape-render's (its message is above)");
-  }
+  auto settings = std::make_shared<const drape::scene_file::Settings>(drape::scene_file::read_settings(path, flags));
   SceneFile file;
-  file.prepared = drape::render::prepare_scene(*settings);
+  file.prepared = drape::scene_file::prepare_scene(*settings);
   file.settings = std::move(settings);
   return file;
 }
@@ -150,7 +139,7 @@ class Renderer {
     m_follow.emplace(aspect, float(options.azimuth), float(options.elevation), float(floor_y));
     m_renderer->set_camera(m_fixed);
     for (const drape::Colliderd& c : first.colliders()) {
-      if (drape::render::is_floor(c, floor_y)) continue;
+      if (drape::scene_file::is_floor(c, floor_y)) continue;
       m_solids.push_back({&c, drape::viewer::local_collider_mesh(c)});
     }
     m_floor_y = floor_y;
@@ -182,7 +171,7 @@ class Renderer {
     }
     if (m_options.follow) {
       drape::Matrix3X<double> framed;
-      render::framed_points(positions, box, !meshes.empty(), framed);
+      drape::viewer::framed_points(positions, box, !meshes.empty(), framed);
       m_renderer->set_camera(m_follow->update(framed, elapsed));
     }
     const drape::viewer::Camera& cam = m_renderer->camera();
@@ -230,7 +219,7 @@ class Renderer {
     std::optional<double> y;
     for (const drape::Colliderd& c : m_sources.front().cloth->colliders()) {
       const double height = c.motion().pose(0).translation.y();
-      if (drape::render::is_floor(c, height) && (!y || height > *y)) y = height;
+      if (drape::scene_file::is_floor(c, height) && (!y || height > *y)) y = height;
     }
     return y;
   }
@@ -328,9 +317,9 @@ void bind_scene_file_and_renderer(nb::module_& m) {
       .def(
           "renderer",
           [](const SceneFile& f, nb::handle_t<PyClothScene> scene) {
-            const drape::render::Output& o = f.settings->output;
+            const drape::scene_file::Output& o = f.settings->output;
             RenderOptions options{o.width,     o.height,          o.samples,
-                                  o.azimuth,   o.elevation,       o.camera == drape::render::CameraMode::Follow,
+                                  o.azimuth,   o.elevation,       o.camera == drape::scene_file::CameraMode::Follow,
                                   !o.no_floor, f.prepared.floor_y};
             return new Renderer(scene_sources(nb::cast<PyClothScene&>(scene)), nb::borrow(scene), options,
                                 f.prepared.framed);

@@ -18,7 +18,8 @@
 #include "drape/io/state_io.hpp"
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/png.hpp"
-#include "render_settings.hpp"
+#include "drape/scene_file/build_scene.hpp"
+#include "drape/scene_file/command_line.hpp"
 
 namespace fs = std::filesystem;
 
@@ -552,14 +553,14 @@ TEST_CASE("scenes/flag.toml runs its whole length without a failed step", "[cli]
 namespace {
 
 /// parse_settings() in this process, as drape-render runs it; `args` after the program name.
-drape::render::Settings parse(std::vector<std::string> args) {
+drape::scene_file::Settings parse(std::vector<std::string> args) {
   args.insert(args.begin(), "drape-render");
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  drape::render::Settings s;
+  drape::scene_file::Settings s;
   int exit_code = 0;
-  const bool run_it = drape::render::parse_settings(int(args.size()), argv.data(), s, exit_code);
+  const bool run_it = drape::scene_file::parse_settings(int(args.size()), argv.data(), s, exit_code);
   REQUIRE(run_it);
   return s;
 }
@@ -571,7 +572,7 @@ std::string parse_error(const fs::path& dir, const std::string& toml, std::vecto
   flags.insert(flags.begin(), {"--scene", (dir / "scene.toml").string()});
   try {
     (void)parse(flags);
-  } catch (const drape::render::SettingsError& e) { return e.what(); }
+  } catch (const drape::scene_file::SettingsError& e) { return e.what(); }
   return "";
 }
 
@@ -603,127 +604,6 @@ constexpr int col_max_strain = 10, col_contacts = 13, col_corrected = 16, col_af
               col_normal_y = 21, col_pin_y = 23, col_self_proximity = 25, col_self_unresolved = 28;
 
 }  // namespace
-
-TEST_CASE("colliders: [[colliders]] tables build the library's colliders where the file puts them",
-          "[cli][colliders]") {
-  const fs::path dir = fresh_dir("colliders_parse");
-  std::ofstream(dir / "scene.toml") << R"(
-contact-thickness = 0.01
-contact-rounds = 7
-integrator = "implicit"
-floor-collider = true
-floor-friction = 0.2
-floor-height = -2.0
-
-[[colliders]]
-shape = "plane"
-point = [0.0, -1.0, 0.0]
-normal = [0.0, 2.0, 0.0]
-
-[[colliders]]
-shape = "sphere"
-center = [1.0, 2.0, 3.0]
-radius = 0.5
-static_friction = 0.4
-velocity = [1.0, 0.0, 0.0]
-
-[[colliders]]
-shape = "capsule"
-a = [0.0, -3.0, 0.0]
-b = [2.0, -3.0, 0.0]
-radius = 0.25
-kinetic_friction = 0.3
-
-[[colliders]]
-shape = "box"
-center = [0.0, -3.0, 0.0]
-half_extents = [1.0, 0.5, 2.0]
-rotation_axis = [0.0, 3.0, 0.0]
-rotation_angle = 90.0
-rounding = 0.1
-static_friction = 0.5
-kinetic_friction = 0.2
-angular_velocity = [0.0, 1.0, 0.0]
-)";
-  const drape::render::Settings s = parse({"--scene", (dir / "scene.toml").string()});
-  const std::vector<drape::Colliderd>& c = s.cloth.colliders;
-  REQUIRE(c.size() == 4);
-  REQUIRE(s.collider_keys == std::vector<std::string>{"colliders[0]", "colliders[1]", "colliders[2]", "colliders[3]"});
-  REQUIRE(s.cloth.contact_thickness == 0.01);
-  REQUIRE(s.stepping.contact_rounds == 7);
-
-  // The plane y = -1, normal +y (the normal's length does not matter).
-  REQUIRE(c[0].kind() == drape::ShapeKind::Plane);
-  REQUIRE(distance(c[0], 3, 0.5, 7) == Approx(1.5));
-  REQUIRE(c[0].query(drape::Vec3<double>(3, 0.5, 7), 0).normal.isApprox(drape::Vec3<double>::UnitY()));
-  REQUIRE(c[0].motion().is_static());
-  REQUIRE(c[0].static_friction() == 0);
-  REQUIRE(c[0].kinetic_friction() == 0);
-  // The sphere, moving at 1 m/s along x; kinetic friction defaults to the static one.
-  REQUIRE(c[1].kind() == drape::ShapeKind::Sphere);
-  REQUIRE(distance(c[1], 1, 4, 3) == Approx(1.5));
-  REQUIRE(distance(c[1], 3, 4, 3, 2.0) == Approx(1.5));  // moved by 2 m at t = 2 s
-  REQUIRE(!c[1].motion().is_static());
-  REQUIRE(c[1].static_friction() == 0.4);
-  REQUIRE(c[1].kinetic_friction() == 0.4);
-  // The capsule from a to b; static friction defaults to the kinetic one.
-  REQUIRE(c[2].kind() == drape::ShapeKind::Capsule);
-  REQUIRE(distance(c[2], 1, -2, 0) == Approx(0.75));
-  REQUIRE(distance(c[2], 3, -3, 0) == Approx(0.75));
-  REQUIRE(distance(c[2], -1, -3, 0) == Approx(0.75));
-  REQUIRE(c[2].static_friction() == 0.3);
-  REQUIRE(c[2].kinetic_friction() == 0.3);
-  // The box turned 90 degrees about +y: its x half extent (1) lies along z, its z (2) along x.
-  REQUIRE(c[3].kind() == drape::ShapeKind::Box);
-  REQUIRE(distance(c[3], 0, -3, 3) == Approx(2.0));
-  REQUIRE(distance(c[3], 3, -3, 0) == Approx(1.0));
-  // Its edges rounded with radius 0.1: 0.1 m out from both faces at an edge is
-  // sqrt(2) * 0.2 - 0.1 from the rounded edge (local (1.1, 0.6, 0) is world (0, -2.4, -1.1)).
-  REQUIRE(distance(c[3], 0, -2.4, -1.1) == Approx(std::sqrt(2.0) * 0.2 - 0.1));
-  REQUIRE(c[3].rounding() == 0.1);
-  // Spinning at 1 rad/s about +y: after pi/2 s it has turned 180 degrees in all.
-  REQUIRE(distance(c[3], 0, -3, 3, std::acos(-1.0) / 2) == Approx(1.0));
-  REQUIRE(c[3].static_friction() == 0.5);
-  REQUIRE(c[3].kinetic_friction() == 0.2);
-
-  // The floor: --floor-height wins over the plane facing +y, which would set it otherwise.
-  REQUIRE(s.floor.collider);
-  REQUIRE(s.floor.friction == 0.2);
-  REQUIRE(drape::render::fixed_floor_height(s) == -2.0);
-  const drape::Colliderd floor = drape::render::floor_collider(s, -2.0);
-  REQUIRE(distance(floor, 5, -1, 5) == Approx(1.0));
-  REQUIRE(floor.static_friction() == 0.2);
-  REQUIRE(floor.kinetic_friction() == 0.2);
-  REQUIRE(drape::render::is_floor(floor, -2.0));
-  REQUIRE(drape::render::is_floor(c[0], -1.0));
-  REQUIRE(!drape::render::is_floor(c[0], -2.0));
-  REQUIRE(!drape::render::is_floor(c[1], 2.0));
-
-  // Flags override the file's keys; --sphere comes after the file's colliders.
-  const drape::render::Settings f =
-      parse({"--scene", (dir / "scene.toml").string(), "--contact-thickness", "0.02", "--contact-rounds", "3",
-             "--floor-friction", "0.6", "--floor-height", "-1.5", "--sphere", "5", "6", "7", "0.5"});
-  REQUIRE(f.cloth.contact_thickness == 0.02);
-  REQUIRE(f.stepping.contact_rounds == 3);
-  REQUIRE(f.floor.friction == 0.6);
-  REQUIRE(drape::render::fixed_floor_height(f) == -1.5);
-  REQUIRE(f.cloth.colliders.size() == 5);
-  REQUIRE(f.collider_keys.back() == "--sphere");
-  REQUIRE(distance(f.cloth.colliders.back(), 5, 8, 7) == Approx(1.5));
-  REQUIRE(f.cloth.colliders.back().kind() == drape::ShapeKind::Sphere);
-
-  // Without --floor-height the floor goes to the highest static plane facing +y; without any, the
-  // camera chooses it at run time.
-  std::ofstream(dir / "planes.toml") << "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.7, 0]\nnormal = [0, 1, 0]\n"
-                                        "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.4, 0]\nnormal = [0, 1, 0]\n"
-                                        "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.1, 0]\nnormal = [1, 1, 0]\n"
-                                        "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.2, 0]\nnormal = [0, 1, 0]\n"
-                                        "velocity = [0, -1, 0]\n";
-  REQUIRE(drape::render::fixed_floor_height(parse({"--scene", (dir / "planes.toml").string()})) == -0.4);
-  REQUIRE(!drape::render::fixed_floor_height(parse({"--sphere", "5", "6", "7", "0.5"})));
-  REQUIRE(parse({}).cloth.colliders.empty());  // none by default
-  fs::remove_all(dir);
-}
 
 TEST_CASE("colliders: bad tables, keys and values are errors naming the key", "[cli][colliders]") {
   const fs::path dir = fresh_dir("colliders_errors");
@@ -838,8 +718,8 @@ TEST_CASE("colliders: one touching a pinned node at the start is refused under i
   }
   // In this process: make_cloth() names it the same way.
   std::ofstream(dir / "scene.toml") << cases[0].toml;
-  const drape::render::Settings s = parse({"--scene", (dir / "scene.toml").string(), "--nx", "8", "--ny", "8"});
-  REQUIRE_THROWS_WITH(drape::render::make_cloth(s, s.cloth), Catch::Contains("scene.toml': colliders[1] = "));
+  const drape::scene_file::Settings s = parse({"--scene", (dir / "scene.toml").string(), "--nx", "8", "--ny", "8"});
+  REQUIRE_THROWS_WITH(drape::scene_file::make_cloth(s, s.cloth), Catch::Contains("scene.toml': colliders[1] = "));
   // Clear of the pins by more than the thickness: accepted.
   std::ofstream(dir / "scene.toml") << away +
                                            "[[colliders]]\nshape = \"box\"\ncenter = [-0.5, 0, 0]\n"
@@ -973,9 +853,9 @@ TEST_CASE(
                  Catch::Contains("121 frames") && Catch::Contains("implicit") && Catch::Contains("2 colliders"));
     // Every node ends outside every collider by the contact thickness (to the end-of-step
     // tolerance), and the end-of-step check never had to push one out.
-    const drape::render::Settings s = parse({"--scene", scene.string()});
+    const drape::scene_file::Settings s = parse({"--scene", scene.string()});
     std::vector<drape::Colliderd> colliders = s.cloth.colliders;
-    colliders.push_back(drape::render::floor_collider(s, *drape::render::fixed_floor_height(s)));
+    colliders.push_back(drape::scene_file::floor_collider(s, *drape::scene_file::fixed_floor_height(s)));
     const drape::State<double> end = drape::load_state<double>((dir / "state").string(), s.cloth.nx * s.cloth.ny);
     double closest = 1e9;
     for (const drape::Colliderd& c : colliders)
@@ -1056,11 +936,11 @@ void check_never_passes_through(const char* name, const std::string& variant_fla
                        (dir / "out").string());
   INFO(r.output);
   REQUIRE(r.code == 0);
-  const drape::render::Settings s = parse({"--scene", scene.string()});
+  const drape::scene_file::Settings s = parse({"--scene", scene.string()});
   // Every cloth's triangles, numbered as the OBJ frames number the vertices (cloth after cloth).
   auto triangles = drape::Grid<double>(s.cloth.nx, s.cloth.ny, 1.0, 1.0).triangles();
   int nodes = s.cloth.nx * s.cloth.ny;
-  for (const drape::render::ExtraCloth& more : s.extra_cloths) {
+  for (const drape::scene_file::ExtraCloth& more : s.extra_cloths) {
     const drape::Grid<double> grid(more.nx.value_or(s.cloth.nx), more.ny.value_or(s.cloth.ny), 1.0, 1.0);
     for (const std::array<int, 3>& t : grid.triangles()) triangles.push_back({t[0] + nodes, t[1] + nodes, t[2] + nodes});
     nodes += grid.node_count();
@@ -1163,13 +1043,13 @@ TEST_CASE("scenes/curtain.toml runs its whole length; its rings end on their las
   INFO(r.output);
   REQUIRE(r.code == 0);  // a failed step would exit with 3
   REQUIRE_THAT(r.output, Catch::Contains("181 frames") && Catch::Contains("t = 6 s") && Catch::Contains("implicit"));
-  const drape::render::Settings s = parse({"--scene", scene.string()});
+  const drape::scene_file::Settings s = parse({"--scene", scene.string()});
   REQUIRE(s.moving_pins.size() == 11);
   const drape::State<double> end = drape::load_state<double>((dir / "state").string(), s.cloth.nx * s.cloth.ny);
   REQUIRE(end.time == Approx(6.0));
   int held = 0, moved = 0, released = 0;
-  for (const drape::render::PinSpec& pin : s.moving_pins) {
-    const int node = drape::render::pin_node(s, pin);
+  for (const drape::scene_file::PinSpec& pin : s.moving_pins) {
+    const int node = drape::scene_file::pin_node(s, pin);
     INFO(pin.key << ", node " << node << " at " << end.positions.col(node).transpose());
     REQUIRE(node == 4 * int(&pin - s.moving_pins.data()));  // the rings: every 4th node of the top row
     if (pin.key_positions.empty()) {
@@ -1347,24 +1227,24 @@ TEST_CASE("[[moving-pins]]: bad tables, keys and values are errors naming the ke
   std::ofstream(dir / "scene.toml") << "nx = 8\n[[moving-pins]]\nnode = [2, 1]\ntimes = [0.5, 1.5]\n"
                                        "positions = [[0.2, 0, 0.1], [0.3, 0.1, 0.1]]\ninterpolation = \"linear\"\n"
                                        "start = 0.25\nrelease = 2.0\n[[moving-pins]]\nid = 5\n";
-  const drape::render::Settings s = parse({"--scene", (dir / "scene.toml").string()});
+  const drape::scene_file::Settings s = parse({"--scene", (dir / "scene.toml").string()});
   REQUIRE(s.moving_pins.size() == 2);
-  const drape::render::PinSpec& a = s.moving_pins[0];
+  const drape::scene_file::PinSpec& a = s.moving_pins[0];
   REQUIRE(a.key == "moving-pins[0]");
-  REQUIRE(drape::render::pin_node(s, a) == 10);
+  REQUIRE(drape::scene_file::pin_node(s, a) == 10);
   REQUIRE(a.start == 0.25);
   REQUIRE(a.release == 2.0);
   REQUIRE(a.key_positions.size() == 2);
   REQUIRE(a.path.position(1.0, drape::Vec3<double>::Zero()).isApprox(drape::Vec3<double>(0.25, 0.05, 0.1)));
-  const drape::render::PinSpec& b = s.moving_pins[1];
-  REQUIRE(drape::render::pin_node(s, b) == 5);
+  const drape::scene_file::PinSpec& b = s.moving_pins[1];
+  REQUIRE(drape::scene_file::pin_node(s, b) == 5);
   REQUIRE(b.path.holds());
   REQUIRE(b.start == 0);
   REQUIRE(!b.release);
   REQUIRE(parse({}).moving_pins.empty());  // none by default
   // `pins = [ids]` is still the --pins key.
   std::ofstream(dir / "scene.toml") << "pins = [0, 3]\n";
-  const drape::render::Settings ids = parse({"--scene", (dir / "scene.toml").string()});
+  const drape::scene_file::Settings ids = parse({"--scene", (dir / "scene.toml").string()});
   REQUIRE(ids.moving_pins.empty());
   REQUIRE(ids.cloth.pinned_nodes == std::vector<int>{0, 3});
   fs::remove_all(dir);

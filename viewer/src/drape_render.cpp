@@ -1,5 +1,5 @@
 // drape-render: simulates the cloth and renders it to a folder of PNG frames, offscreen.
-// Settings: render_settings.hpp (flags = scene-file keys). Documentation: docs/viewer.md.
+// Settings: drape/scene_file/settings.hpp (flags = scene-file keys). Documentation: docs/viewer.md.
 //
 // Exit codes: 0 done; 1 runtime error (output not writable, OpenGL/OSMesa failure, ffmpeg);
 //             2 invalid settings or input files (nothing was run); 3 the simulation failed
@@ -28,21 +28,23 @@
 #include "drape/physics/force_assembler.hpp"
 #include "drape/realtime/realtime_driver.hpp"
 #include "drape/scene/cloth_scene.hpp"
+#include "drape/scene_file/build_scene.hpp"
+#include "drape/scene_file/command_line.hpp"
+#include "drape/scene_file/pin_schedule.hpp"
+#include "drape/scene_file/settings.hpp"
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
 #include "drape/viewer/collider_mesh.hpp"
 #include "drape/viewer/offscreen_context.hpp"
 #include "drape/viewer/png.hpp"
-#include "render_settings.hpp"
-#include "scene_setup.hpp"
 
 extern char** environ;
 
 namespace {
 
-using drape::render::PinSchedule;
-using drape::render::Settings;
-using drape::render::SettingsError;
+using drape::scene_file::PinSchedule;
+using drape::scene_file::Settings;
+using drape::scene_file::SettingsError;
 
 constexpr int exit_runtime_error = 1;
 constexpr int exit_bad_settings = 2;
@@ -216,14 +218,14 @@ class Run {
     m_renderer.set_camera(m_fixed_camera);
     // The colliders' meshes; a plane at the floor's height facing +y is the floor itself.
     for (const drape::Colliderd& c : cloth.colliders()) {
-      if (drape::render::is_floor(c, floor_y)) continue;
+      if (drape::scene_file::is_floor(c, floor_y)) continue;
       m_solids.push_back({&c, drape::viewer::local_collider_mesh(c)});
     }
   }
 
   /// Frames 0 .. n-1 at t0 + k frame_time, rounded to whole steps: rendering speed does not matter.
   void offline() {
-    const drape::render::TimeLine& t = m_s.time;
+    const drape::scene_file::TimeLine& t = m_s.time;
     const int total =
         t.duration_given ? std::max(1, static_cast<int>(std::ceil(t.duration / t.frame_time - 1e-9)) + 1) : t.frames;
     m_total_frames = total;
@@ -240,7 +242,7 @@ class Run {
   /// The driver grants whole steps for the wall time each frame took; frames are drawn between the
   /// last two states at the driver's interpolation fraction.
   void realtime() {
-    const drape::render::TimeLine& t = m_s.time;
+    const drape::scene_file::TimeLine& t = m_s.time;
     m_total_frames = t.frames;
     draw(all_positions(), m_state.time, {});
     drape::RealtimeDriver<> driver(integrator().dt(), m_s.realtime);
@@ -403,13 +405,13 @@ class Run {
   /// Renders `positions` as the next frame, writes its files and its log row.
   void draw(const drape::Matrix3X<double>& positions, double time, const FrameSteps& done) {
     if (m_solids.empty()) {
-      if (m_s.output.camera == drape::render::CameraMode::Follow)
+      if (m_s.output.camera == drape::scene_file::CameraMode::Follow)
         m_renderer.set_camera(m_follow.update(positions, m_state.time - m_previous_sim));
     } else {
       drape::viewer::Bounds box;
       place_solids(time, m_meshes, box);
-      if (m_s.output.camera == drape::render::CameraMode::Follow) {
-        drape::render::framed_points(positions, box, !m_meshes.empty(), m_framed);
+      if (m_s.output.camera == drape::scene_file::CameraMode::Follow) {
+        drape::viewer::framed_points(positions, box, !m_meshes.empty(), m_framed);
         m_renderer.set_camera(m_follow.update(m_framed, m_state.time - m_previous_sim));
       }
       const drape::viewer::Camera& cam = m_renderer.camera();
@@ -515,8 +517,8 @@ std::string force_term_names(const drape::Clothd& cloth) {
 
 int run(const Settings& s) {
   // Inputs and outputs are checked before any simulation or rendering.
-  drape::render::PreparedScene scene = drape::render::prepare_scene(s);
-  const drape::Clothd cloth = drape::render::make_cloth(s, scene.first);
+  drape::scene_file::PreparedScene scene = drape::scene_file::prepare_scene(s);
+  const drape::Clothd cloth = drape::scene_file::make_cloth(s, scene.first);
   prepare_output_folder(s.output.out);
 
   Run run(s, cloth, scene.specs, std::move(scene.start), scene.framed, scene.floor_y);
@@ -550,7 +552,7 @@ int main(int argc, char** argv) {
   Settings settings;
   int exit_code = 0;
   try {
-    if (!drape::render::parse_settings(argc, argv, settings, exit_code)) return exit_code;
+    if (!drape::scene_file::parse_settings(argc, argv, settings, exit_code)) return exit_code;
   } catch (const SettingsError& e) {
     std::fprintf(stderr, "drape-render: error: %s\n", e.what());
     return exit_bad_settings;

@@ -18,6 +18,7 @@
 
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/image.hpp"
+#include "drape/viewer/solid_mesh.hpp"
 
 namespace drape::viewer {
 
@@ -32,13 +33,6 @@ struct RenderSettings {
   Eigen::Vector3f back_colour{0.20f, 0.42f, 0.78f};   ///< underside
   Eigen::Vector3f background{0.93f, 0.94f, 0.96f};
   Eigen::Vector3f solid_colour{0.70f, 0.71f, 0.69f};  ///< the solids (colliders): a neutral grey
-};
-
-/// A rigid body to draw: triangles of three vertices each, `x y z nx ny nz` per vertex, in the
-/// world frame; the normal is the triangle's (flat shading; either side is lit).
-struct SolidMesh {
-  std::vector<float> vertices;
-  bool casts_shadow = true;  ///< its planar shadow is drawn on the floor (not for planes)
 };
 
 class ClothRenderer {

@@ -194,4 +194,17 @@ class FollowCamera {
   bool m_started = false;
 };
 
+/// What the following camera frames: the nodes, and the 8 corners of the solids' box `solids` when
+/// there are solids (`has_solids`). `out` is resized to fit.
+inline void framed_points(const Matrix3X<double>& positions, const Bounds& solids, bool has_solids,
+                          Matrix3X<double>& out) {
+  out.resize(3, positions.cols() + (has_solids ? 8 : 0));
+  out.leftCols(positions.cols()) = positions;
+  for (int c = 0; c < 8 && has_solids; ++c)
+    out.col(positions.cols() + c) =
+        Eigen::Vector3f((c & 1) ? solids.max.x() : solids.min.x(), (c & 2) ? solids.max.y() : solids.min.y(),
+                        (c & 4) ? solids.max.z() : solids.min.z())
+            .cast<double>();
+}
+
 }  // namespace drape::viewer

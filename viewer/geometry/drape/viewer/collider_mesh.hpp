@@ -1,6 +1,6 @@
 #pragma once
 /// \file collider_mesh.hpp
-/// Triangle meshes of the cloth's colliders for drawing (drape-render): every shape but the plane
+/// Triangle meshes of the cloth's colliders for drawing and framing (drape-render): every shape but the plane
 /// as a closed mesh whose vertices lie exactly on the collider's surface, placed by the
 /// collider's pose at a given time; the plane as a large quad around a point.
 ///
@@ -18,7 +18,7 @@
 
 #include "drape/core/collider.hpp"
 #include "drape/viewer/camera.hpp"
-#include "drape/viewer/cloth_renderer.hpp"
+#include "drape/viewer/solid_mesh.hpp"
 
 namespace drape::viewer {
 

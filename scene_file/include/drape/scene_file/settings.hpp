@@ -1,10 +1,12 @@
 #pragma once
-// drape-render's settings: the library's own option structs (the scene, the integrator's options,
-// the real-time driver's settings, the air), which the library validates, plus the viewer's time
-// line and output. Every field is a command-line flag and a key of a TOML scene file: the same
-// name at the top level, except the air's, which are keys of the tables [air] and [air.gusts].
-// The colliders are tables [[colliders]] of the scene file (no flag), plus --sphere and the floor;
-// moving pins are tables [[moving-pins]] of the scene file (no flag).
+/// \file settings.hpp
+/// A scene's settings: the library's own option structs (the scene, the integrator's options, the
+/// real-time driver's settings, the air), which the library validates, plus the time line and the
+/// output of a run. Every field is a command-line flag of drape-render and a key of a TOML scene
+/// file (command_line.hpp): the same name at the top level, except the air's, which are keys of the
+/// tables [air] and [air.gusts]. The colliders are tables [[colliders]] of the scene file (no
+/// flag), plus --sphere and the floor; moving pins are tables [[moving-pins]], more cloths tables
+/// [[cloths]] (no flag).
 
 #include <array>
 #include <limits>
@@ -18,15 +20,15 @@
 #include "drape/core/enum_names.hpp"
 #include "drape/core/pin_path.hpp"
 #include "drape/fwd.hpp"
-// Every program that links drape_scene_file (drape-render, the Python module, the fuzzers) uses
-// drape's compiled instances (drape_instances) instead of compiling them in each source.
+// Every program that links drape_scene_file (drape-render, the Python module, the tests, the
+// fuzzers) uses drape's compiled instances (drape_instances) instead of compiling them in each source.
 #include "drape/instances.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/integrator.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/realtime/realtime_driver.hpp"
 
-namespace drape::render {
+namespace drape::scene_file {
 
 /// A bad value: the message names the flag and the allowed range. Exit code 2.
 class SettingsError : public std::runtime_error {
@@ -132,54 +134,11 @@ struct Settings {
   Output output;
 };
 
-/// Parses the command line and the scene file it names (flags override the file), validates
-/// everything (the library's checks for the library's settings) but the one that needs the whole
-/// cloth, colliders clear of the pins (make_cloth()). Returns false when the program
-/// should exit at once with `exit_code` (after --help, or a parse error already reported).
-/// \throws SettingsError for a bad value or an unknown/mistyped scene-file key.
-bool parse_settings(int argc, char** argv, Settings& settings, int& exit_code);
-
-/// The checks of parse_settings() on their own. \throws SettingsError naming the flag.
-void validate(const Settings& s);
-
-/// The force terms of `s.air` for the cloth of `s.cloth` (drape::air_force_terms()); none when the
-/// air exerts no force (AirSettings::active() is false), so a still-air run is unchanged.
-std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(const Settings& s);
-
-/// The height of the floor (drawn, and the floor collider) if the settings fix it: --floor-height,
-/// else the highest static plane collider whose normal is +y; nullopt: the camera puts it just
-/// below the box it frames (chosen at run time from the start state).
-std::optional<double> fixed_floor_height(const Settings& s);
-
-/// True if `collider` is drawn as the floor: a static plane facing +y at `floor_height`.
-bool is_floor(const drape::Colliderd& collider, double floor_height);
-
-/// The plane collider of --floor-collider at height y, with --floor-friction.
-/// \throws SettingsError naming --floor-friction or --floor-height.
-drape::Colliderd floor_collider(const Settings& s, double y);
-
-/// drape::Cloth(spec) for the settings `s`: `spec` is s.cloth (plus force terms), its colliders
-/// s.cloth.colliders and at most the floor collider after them. The library's error about a collider
-/// touching a pinned node (`colliders[k]`) names the key or flag that made collider k.
-/// \throws SettingsError.
-drape::Clothd make_cloth(const Settings& s, const drape::ClothSpecd& spec);
-
-/// Every cloth of the scene: `first` (s.cloth with its force terms and the floor collider), then
-/// one per [[cloths]] table, built from `first` with its own grid, pins, placement and air.
-/// \throws SettingsError naming the table's key (cloths[k].nx).
-std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::ClothSpecd& first);
-/// The node id of `pin` in the grid of `s.cloth` (id = j*nx + i).
-/// \throws SettingsError naming moving-pins[k].node or moving-pins[k].id when the grid has no such node.
-int pin_node(const Settings& s, const PinSpec& pin);
-
-/// The executable path of `program` on PATH, or "" if it is not installed.
-std::string find_on_path(const std::string& program);
-
-}  // namespace drape::render
+}  // namespace drape::scene_file
 
 template <>
-struct drape::EnumNames<drape::render::CameraMode> {
+struct drape::EnumNames<drape::scene_file::CameraMode> {
   static constexpr const char* parameter = "camera";
-  static constexpr std::array<EnumName<drape::render::CameraMode>, 2> values{
-      {{drape::render::CameraMode::Follow, "follow"}, {drape::render::CameraMode::Fixed, "fixed"}}};
+  static constexpr std::array<EnumName<drape::scene_file::CameraMode>, 2> values{
+      {{drape::scene_file::CameraMode::Follow, "follow"}, {drape::scene_file::CameraMode::Fixed, "fixed"}}};
 };

@@ -1,0 +1,279 @@
+// The scene-file library (drape::scene_file) on its own, without a renderer: settings read from a
+// scene file and flags, the one reader of the [[colliders]], [[moving-pins]] and [[cloths]] tables,
+// the scene built from the settings (every cloth, the start state, the floor) and the moving pins
+// applied over time. drape-render's own use of it is tested by tests/viewer/test_cli.cpp.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "drape/core/pin_set.hpp"
+#include "drape/scene_file/build_scene.hpp"
+#include "drape/scene_file/command_line.hpp"
+#include "drape/scene_file/pin_schedule.hpp"
+
+namespace fs = std::filesystem;
+using namespace drape::scene_file;
+
+namespace {
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("drape_test_scene_file_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+/// read_settings() of a scene file with the text `toml` (and `flags`).
+Settings read_text(const fs::path& dir, const std::string& toml, const std::vector<std::string>& flags = {}) {
+  std::ofstream(dir / "scene.toml") << toml;
+  return read_settings((dir / "scene.toml").string(), flags);
+}
+
+/// The message of read_settings()'s SettingsError for a scene file with `toml`; "" if it accepts it.
+std::string error_of(const fs::path& dir, const std::string& toml, const std::vector<std::string>& flags = {}) {
+  try {
+    (void)read_text(dir, toml, flags);
+  } catch (const SettingsError& e) { return e.what(); }
+  return "";
+}
+
+double distance(const drape::Colliderd& c, double x, double y, double z, double t = 0) {
+  return c.query(drape::Vec3<double>(x, y, z), t).distance;
+}
+
+}  // namespace
+
+TEST_CASE("colliders: [[colliders]] tables build the library's colliders where the file puts them",
+          "[scene_file][colliders]") {
+  const fs::path dir = fresh_dir("colliders");
+  std::ofstream(dir / "scene.toml") << R"(
+contact-thickness = 0.01
+contact-rounds = 7
+integrator = "implicit"
+floor-collider = true
+floor-friction = 0.2
+floor-height = -2.0
+
+[[colliders]]
+shape = "plane"
+point = [0.0, -1.0, 0.0]
+normal = [0.0, 2.0, 0.0]
+
+[[colliders]]
+shape = "sphere"
+center = [1.0, 2.0, 3.0]
+radius = 0.5
+static_friction = 0.4
+velocity = [1.0, 0.0, 0.0]
+
+[[colliders]]
+shape = "capsule"
+a = [0.0, -3.0, 0.0]
+b = [2.0, -3.0, 0.0]
+radius = 0.25
+kinetic_friction = 0.3
+
+[[colliders]]
+shape = "box"
+center = [0.0, -3.0, 0.0]
+half_extents = [1.0, 0.5, 2.0]
+rotation_axis = [0.0, 3.0, 0.0]
+rotation_angle = 90.0
+rounding = 0.1
+static_friction = 0.5
+kinetic_friction = 0.2
+angular_velocity = [0.0, 1.0, 0.0]
+)";
+  const Settings s = read_settings((dir / "scene.toml").string());
+  const std::vector<drape::Colliderd>& c = s.cloth.colliders;
+  REQUIRE(c.size() == 4);
+  REQUIRE(s.collider_keys == std::vector<std::string>{"colliders[0]", "colliders[1]", "colliders[2]", "colliders[3]"});
+  REQUIRE(s.cloth.contact_thickness == 0.01);
+  REQUIRE(s.stepping.contact_rounds == 7);
+
+  // The plane y = -1, normal +y (the normal's length does not matter).
+  REQUIRE(c[0].kind() == drape::ShapeKind::Plane);
+  REQUIRE(distance(c[0], 3, 0.5, 7) == Approx(1.5));
+  REQUIRE(c[0].query(drape::Vec3<double>(3, 0.5, 7), 0).normal.isApprox(drape::Vec3<double>::UnitY()));
+  REQUIRE(c[0].motion().is_static());
+  REQUIRE(c[0].static_friction() == 0);
+  REQUIRE(c[0].kinetic_friction() == 0);
+  // The sphere, moving at 1 m/s along x; kinetic friction defaults to the static one.
+  REQUIRE(c[1].kind() == drape::ShapeKind::Sphere);
+  REQUIRE(distance(c[1], 1, 4, 3) == Approx(1.5));
+  REQUIRE(distance(c[1], 3, 4, 3, 2.0) == Approx(1.5));  // moved by 2 m at t = 2 s
+  REQUIRE(!c[1].motion().is_static());
+  REQUIRE(c[1].static_friction() == 0.4);
+  REQUIRE(c[1].kinetic_friction() == 0.4);
+  // The capsule from a to b; static friction defaults to the kinetic one.
+  REQUIRE(c[2].kind() == drape::ShapeKind::Capsule);
+  REQUIRE(distance(c[2], 1, -2, 0) == Approx(0.75));
+  REQUIRE(distance(c[2], 3, -3, 0) == Approx(0.75));
+  REQUIRE(distance(c[2], -1, -3, 0) == Approx(0.75));
+  REQUIRE(c[2].static_friction() == 0.3);
+  REQUIRE(c[2].kinetic_friction() == 0.3);
+  // The box turned 90 degrees about +y: its x half extent (1) lies along z, its z (2) along x.
+  REQUIRE(c[3].kind() == drape::ShapeKind::Box);
+  REQUIRE(distance(c[3], 0, -3, 3) == Approx(2.0));
+  REQUIRE(distance(c[3], 3, -3, 0) == Approx(1.0));
+  // Its edges rounded with radius 0.1: 0.1 m out from both faces at an edge is
+  // sqrt(2) * 0.2 - 0.1 from the rounded edge (local (1.1, 0.6, 0) is world (0, -2.4, -1.1)).
+  REQUIRE(distance(c[3], 0, -2.4, -1.1) == Approx(std::sqrt(2.0) * 0.2 - 0.1));
+  REQUIRE(c[3].rounding() == 0.1);
+  // Spinning at 1 rad/s about +y: after pi/2 s it has turned 180 degrees in all.
+  REQUIRE(distance(c[3], 0, -3, 3, std::acos(-1.0) / 2) == Approx(1.0));
+  REQUIRE(c[3].static_friction() == 0.5);
+  REQUIRE(c[3].kinetic_friction() == 0.2);
+
+  // The floor: --floor-height wins over the plane facing +y, which would set it otherwise.
+  REQUIRE(s.floor.collider);
+  REQUIRE(s.floor.friction == 0.2);
+  REQUIRE(fixed_floor_height(s) == -2.0);
+  const drape::Colliderd floor = floor_collider(s, -2.0);
+  REQUIRE(distance(floor, 5, -1, 5) == Approx(1.0));
+  REQUIRE(floor.static_friction() == 0.2);
+  REQUIRE(floor.kinetic_friction() == 0.2);
+  REQUIRE(is_floor(floor, -2.0));
+  REQUIRE(is_floor(c[0], -1.0));
+  REQUIRE(!is_floor(c[0], -2.0));
+  REQUIRE(!is_floor(c[1], 2.0));
+
+  // Flags override the file's keys; --sphere comes after the file's colliders.
+  const Settings f =
+      read_settings((dir / "scene.toml").string(), {"--contact-thickness", "0.02", "--contact-rounds", "3",
+                                                    "--floor-friction", "0.6", "--floor-height", "-1.5", "--sphere",
+                                                    "5", "6", "7", "0.5"});
+  REQUIRE(f.cloth.contact_thickness == 0.02);
+  REQUIRE(f.stepping.contact_rounds == 3);
+  REQUIRE(f.floor.friction == 0.6);
+  REQUIRE(fixed_floor_height(f) == -1.5);
+  REQUIRE(f.cloth.colliders.size() == 5);
+  REQUIRE(f.collider_keys.back() == "--sphere");
+  REQUIRE(distance(f.cloth.colliders.back(), 5, 8, 7) == Approx(1.5));
+  REQUIRE(f.cloth.colliders.back().kind() == drape::ShapeKind::Sphere);
+
+  // Without --floor-height the floor goes to the highest static plane facing +y; without any, the
+  // camera chooses it at run time.
+  std::ofstream(dir / "planes.toml") << "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.7, 0]\nnormal = [0, 1, 0]\n"
+                                        "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.4, 0]\nnormal = [0, 1, 0]\n"
+                                        "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.1, 0]\nnormal = [1, 1, 0]\n"
+                                        "[[colliders]]\nshape = \"plane\"\npoint = [0, -0.2, 0]\nnormal = [0, 1, 0]\n"
+                                        "velocity = [0, -1, 0]\n";
+  REQUIRE(fixed_floor_height(read_settings((dir / "planes.toml").string())) == -0.4);
+  REQUIRE(!fixed_floor_height(read_settings("", {"--sphere", "5", "6", "7", "0.5"})));
+  REQUIRE(read_settings("").cloth.colliders.empty());  // none by default
+  fs::remove_all(dir);
+}
+
+TEST_CASE("[[colliders]], [[moving-pins]], [[cloths]]: one reader names unknown and misspelt keys, bad entries",
+          "[scene_file][tables]") {
+  const fs::path dir = fresh_dir("tables");
+  using Catch::Contains;
+  // An unknown key, with the key it misspells ('-' for '_' or back) and the keys the table has.
+  const std::string sphere = "[[colliders]]\nshape = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n";
+  REQUIRE_THAT(error_of(dir, sphere + "static-friction = 0.1\n"),
+               Contains("unknown key 'colliders[0].static-friction' (did you mean 'static_friction'?); a sphere "
+                        "has the keys shape, velocity, angular_velocity, static_friction, kinetic_friction, center, "
+                        "radius"));
+  REQUIRE_THAT(error_of(dir, sphere + "half_extents = [1, 1, 1]\n"),
+               Contains("key 'colliders[0].half_extents' does not belong to a sphere (it is a box's)"));
+  REQUIRE_THAT(error_of(dir, "[[moving-pins]]\nnode = [0, 0]\nrelase = 1.0\n"),
+               Contains("unknown key 'moving-pins[0].relase'; a pin has the keys node, id, times, positions, "
+                        "interpolation, start, release"));
+  REQUIRE_THAT(error_of(dir, "[[cloths]]\nstructural_ks = 100.0\n"),
+               Contains("unknown key 'cloths[0].structural_ks' (did you mean 'structural-ks'?); a cloth has the "
+                        "keys nx"));
+  REQUIRE_THAT(error_of(dir, "[[cloths]]\nnx = 4\n[[cloths]]\nny = 4\ncolor = 1\n"),
+               Contains("unknown key 'cloths[1].color'; a cloth has the keys"));
+  // Entries that are not tables, and keys that are not arrays of tables.
+  REQUIRE_THAT(error_of(dir, "colliders = 3\n"),
+               Contains("key 'colliders' must be an array of tables ([[colliders]] with a shape each)"));
+  REQUIRE_THAT(error_of(dir, "moving-pins = [1]\n"),
+               Contains("key 'moving-pins[0]' must be a table ([[moving-pins]] with node = [i, j] or id = k)"));
+  REQUIRE_THAT(error_of(dir, "cloths = \"two\"\n"),
+               Contains("key 'cloths' must be an array of tables ([[cloths]], one per cloth after the first)"));
+  // The tables in order, each under its own key.
+  const Settings s = read_text(dir, sphere + sphere + "[[cloths]]\nnx = 4\n[[cloths]]\nny = 5\n"
+                                     "[[moving-pins]]\nnode = [1, 0]\n[[moving-pins]]\nid = 3\n");
+  REQUIRE(s.collider_keys == std::vector<std::string>{"colliders[0]", "colliders[1]"});
+  REQUIRE(s.extra_cloths.size() == 2);
+  REQUIRE(s.extra_cloths[0].key == "cloths[0]");
+  REQUIRE(s.extra_cloths[0].nx == 4);
+  REQUIRE(s.extra_cloths[1].ny == 5);
+  REQUIRE(s.moving_pins.size() == 2);
+  REQUIRE(s.moving_pins[1].key == "moving-pins[1]");
+  REQUIRE(pin_node(s, s.moving_pins[0]) == 1);
+  REQUIRE(pin_node(s, s.moving_pins[1]) == 3);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("read_settings: flags over the scene file; a bad flag is an error naming it", "[scene_file]") {
+  const fs::path dir = fresh_dir("flags");
+  const std::string scene = "nx = 12\nny = 7\nintegrator = \"implicit\"\ndt = 0.005\n";
+  const Settings file = read_text(dir, scene);
+  REQUIRE(file.cloth.nx == 12);
+  REQUIRE(file.cloth.ny == 7);
+  REQUIRE(file.integrator == drape::IntegratorKind::Implicit);
+  REQUIRE(file.stepping.dt == 0.005);
+  const Settings flags = read_text(dir, scene, {"--nx", "9", "--integrator", "symplectic"});
+  REQUIRE(flags.cloth.nx == 9);
+  REQUIRE(flags.cloth.ny == 7);
+  REQUIRE(flags.integrator == drape::IntegratorKind::Symplectic);
+  REQUIRE_THAT(error_of(dir, scene, {"--bogus", "1"}), Catch::Contains("--bogus"));
+  REQUIRE_THAT(error_of(dir, scene, {"--help"}), Catch::Contains("--help"));
+  REQUIRE_THAT(error_of(dir, scene, {"--nx", "1"}), Catch::Contains("--nx = 1 is invalid; allowed: [2, 10000]"));
+  REQUIRE_THAT(error_of(dir, "nx = 1\n"), Catch::Contains("--nx = 1 is invalid"));
+  REQUIRE_THAT(error_of(dir, "nx = 1.5\n"), Catch::Contains("key 'nx' must be an integer"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("prepare_scene: every cloth, the start state, the air's force and the floor, without a renderer",
+          "[scene_file]") {
+  const fs::path dir = fresh_dir("prepare");
+  // The floor collider at a height the settings fix.
+  const PreparedScene fixed =
+      prepare_scene(read_text(dir, "nx = 6\nny = 6\nfloor-collider = true\nfloor-height = -1.25\n"));
+  REQUIRE(fixed.floor_y == -1.25);
+  REQUIRE(fixed.first.colliders.size() == 1);
+  REQUIRE(distance(fixed.first.colliders.back(), 0, 0, 0) == Approx(1.25));
+  REQUIRE(fixed.specs.size() == 1);
+  REQUIRE(fixed.first.force_terms.empty());  // still air: no force term
+  REQUIRE(fixed.start.positions.cols() == 36);
+
+  // Unfixed, the floor goes below the box the fixed camera frames: below where the cloth can hang.
+  const PreparedScene framed =
+      prepare_scene(read_text(dir, "nx = 6\nny = 6\nfloor-collider = true\n[air]\ndrag = 0.1\n"
+                                   "[[cloths]]\nnx = 3\nny = 3\nposition = [0.0, 1.0, 0.0]\n"));
+  REQUIRE(framed.floor_y <= framed.framed.min.y());
+  REQUIRE(framed.floor_y < framed.start.positions.row(1).minCoeff());
+  REQUIRE(framed.first.colliders.size() == 1);
+  REQUIRE(distance(framed.first.colliders.back(), 0, 0, 0) == Approx(-framed.floor_y));
+  REQUIRE(framed.first.force_terms.size() == 1);  // the air's drag
+  REQUIRE(framed.specs.size() == 2);
+  REQUIRE(framed.specs[1].nx == 3);
+  REQUIRE(framed.specs[1].force_terms.size() == 1);  // its own air term, for its own grid
+  REQUIRE(framed.specs[1].colliders.size() == 1);    // the first cloth's colliders, the floor among them
+  REQUIRE(framed.framed.max.y() >= 1.0f);             // the second cloth starts 1 m up
+  fs::remove_all(dir);
+}
+
+TEST_CASE("PinSchedule: a [[moving-pins]] node is pinned from its start and released at its release", "[scene_file]") {
+  const fs::path dir = fresh_dir("schedule");
+  const Settings s =
+      read_text(dir, "nx = 4\nny = 4\npins = []\n[[moving-pins]]\nnode = [2, 1]\nstart = 0.5\nrelease = 1.0\n");
+  const int node = 1 * 4 + 2;
+  PinSchedule schedule(s);
+  drape::PinSet<double> pins(drape::Pins({}, 16));
+  const double dt = 0.1;
+  double t = 0;  // accumulated as a run accumulates it: 0.5 and 1.0 are reached within rounding
+  for (int step = 0; step <= 12; ++step, t += dt) {
+    schedule.apply(t, dt, pins);
+    INFO("step " << step << ", t = " << t);
+    REQUIRE(pins.is_pinned(node) == (step >= 5 && step < 10));
+  }
+  fs::remove_all(dir);
+}
