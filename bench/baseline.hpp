@@ -2,12 +2,12 @@
 /// \file baseline.hpp
 /// THE TEXTBOOK BASELINE. Not part of drape: the reference every headline benchmark figure is a
 /// ratio to (docs/benchmarks.md). It is written the way a straightforward, correct solution of the
-/// brief writes it, plainly and without tuning, so "N x faster than the baseline" means "N x
+/// mass-spring model writes it, plainly and without tuning, so "N x faster than the baseline" means "N x
 /// faster than the obvious implementation", measured in the same binary and the same run.
 ///
-/// - `BaselineRk2`: the brief's midpoint rule with a plain per-spring loop over a
+/// - `BaselineRk2`: the explicit midpoint rule with a plain per-spring loop over a
 ///   `std::vector<Spring>` (array of structs), single-threaded, forces returned by value.
-/// - `BaselineImplicit`: the brief's linearised implicit Euler (Baraff & Witkin 1998),
+/// - `BaselineImplicit`: the linearised implicit Euler (Baraff & Witkin 1998),
 ///   \f[ (M - \Delta t\, \partial f/\partial v - \Delta t^2\, \partial f/\partial x)\,\Delta v
 ///       = \Delta t\,(f + \Delta t\, \partial f/\partial x\; v), \f]
 ///   with the symmetric Baraff-Witkin Jacobian (the x-derivative of the damping term dropped),

@@ -2,7 +2,7 @@
 /// \file bench_common.hpp
 /// Scenes, representative timed states and counters shared by every benchmark family.
 ///
-/// Timed state: the brief's scene (both corners pinned, ClothSpec defaults, nx = ny = N) after a
+/// Timed state: the default scene (both corners pinned, ClothSpec defaults, nx = ny = N) after a
 /// warm-up of `warm_up_time` simulated seconds, so the cloth is falling and swinging and springs
 /// near the pins are compressed (counted in the `compressed` counter), not the flat start. A
 /// benchmark then steps on from that state and every `window` steps resets to it (outside the
@@ -33,7 +33,7 @@ inline constexpr int rk2_window = 1000;
 inline constexpr int implicit_window = 30;
 
 inline drape::ClothSpec<double> scene_spec(int n) {
-  drape::ClothSpec<double> spec;  // brief's scene: 0.1 m, 0.03 kg, g = 10, default springs, two corners
+  drape::ClothSpec<double> spec;  // the default scene: 0.1 m, 0.03 kg, g = 10, default springs, two corners
   spec.nx = n;
   spec.ny = n;
   return spec;

@@ -198,8 +198,8 @@ void linear_solve_baseline(benchmark::State& st, double dt) {
 // ---- system mat-vec -------------------------------------------------------------------------------
 
 /// y = A x with the system of linear_solve (default variant, dt = 1/60), the kernel of every CG
-/// iteration: drape's per-spring edge form (what PCG uses on one thread) and block CSR (what
-/// it uses with a team) against the baseline's scalar CSC matrix times a vector.
+/// iteration: drape's per-spring edge form (PCG's product, on one thread and on a team) and block
+/// CSR (the block rows) against the baseline's scalar CSC matrix times a vector.
 void matvec_drape(benchmark::State& st, bool edges) {
   const Scene& sc = scene(int(st.range(0)));
   drape::LinearSystem<double> system = solve_case(sc, 1.0 / 60.0).system;

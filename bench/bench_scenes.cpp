@@ -1,5 +1,5 @@
 /// \file bench_scenes.cpp
-/// The example scenes of the contact/environment issue (scenes/*.toml) as benchmarks of the
+/// The example scenes with colliders, air and moving pins (scenes/*.toml) as benchmarks of the
 /// implicit step (dt = 1/60, cg + multigrid, Spd, 2 threads) in each scene's own situation:
 ///  - `scene_step/drape/scene=drop_on_sphere`: a free cloth on a sphere standing on a floor
 ///    (scenes/drop_on_sphere.toml), timed from t = 1.0 s, when it lies draped over the sphere;

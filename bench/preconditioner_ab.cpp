@@ -3,7 +3,7 @@
 /// interleaved round by round so that the machine's drift hits both alike: the benchmark scene
 /// (N x N, both corners pinned, dt = 1/60), each round a fresh integrator per preconditioner,
 /// 5 warm-up steps, then `steps` timed steps. Prints the median step time of each, the median of
-/// the per-round ratios (second / first) and the CG iterations of each (bench/analysis.md).
+/// the per-round ratios (second / first) and the CG iterations of each (docs/performance.md).
 ///
 ///   build/bench/bench/drape_preconditioner_ab [N=33] [threads=1] [rounds=11] [steps=60]
 ///                                             [first=multigrid] [second=multigrid-float]

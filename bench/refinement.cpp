@@ -1,5 +1,5 @@
 /// \file refinement.cpp
-/// Refinement study (issue 14): the same square cloth (the default one, 3.2 m a side, two corners
+/// Refinement study: the same square cloth (the default one, 3.2 m a side, two corners
 /// pinned) sampled at n x n nodes, the implicit step at dt = 1/60; CG iterations and time per step
 /// against the node count, with the multigrid preconditioner (the default) and with block Jacobi.
 ///
@@ -18,7 +18,7 @@
 /// e'); bend ks and kd times (h0 / h)^P. P = 0 keeps the bend springs' share of the membrane
 /// stiffness; no P keeps a bending stiffness as well, for there is none to keep: a bend spring
 /// across two links turned by an angle a is shortened by h a^2 / 4, an energy quartic in the
-/// curvature (bench/analysis.md, "Refinement study"). CG's iteration cap is raised to 100000, so block Jacobi's counts
+/// curvature (docs/performance.md, "Iterations against grid size"). CG's iteration cap is raised to 100000, so block Jacobi's counts
 /// are not cut off. Time per step: each run of S steps timed whole (stepping only, not the set-up), the median of R
 /// runs divided by S. Prints markdown tables.
 

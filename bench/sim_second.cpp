@@ -10,7 +10,7 @@
 ///                                      [--seconds S]
 ///
 /// Scene: the default cloth (docs/parameters.md), two corners pinned, n x n nodes (default 33);
-/// `--reference`: the soft reference constants of issue 14 (ks 1000 / 1000 / 100 N/m, kd 1 / 1 /
+/// `--reference`: the soft reference constants (ks 1000 / 1000 / 100 N/m, kd 1 / 1 /
 /// 0.1 N s/m). Threads: 2 by default (the bisection runs on 1 thread: stability does not depend
 /// on it). Prints a markdown table.
 

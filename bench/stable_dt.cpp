@@ -5,7 +5,7 @@
 ///   build/bench/bench/drape_stable_dt [n ...] [--reference]
 ///
 /// Scene: the default cloth (docs/parameters.md), two corners pinned, n x n nodes (default 33);
-/// `--reference`: the soft reference constants of issue 14 (ks 1000 / 1000 / 100 N/m, kd 1 / 1 /
+/// `--reference`: the soft reference constants (ks 1000 / 1000 / 100 N/m, kd 1 / 1 /
 /// 0.1 N s/m) used to compare with other simulators. One thread (the result does not depend on it).
 
 #include <cstdio>

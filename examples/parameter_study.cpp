@@ -1,4 +1,4 @@
-// How the spring constants and dt behave with RK2 on the brief's scene, for both boundary
+// How the spring constants and dt behave with RK2 on the default scene, for both boundary
 // conditions: is the run stable for 6 s, how far do springs stretch while the cloth swings, and how
 // far at rest. The numbers in docs/parameters.md come from this program.
 //

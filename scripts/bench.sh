@@ -77,7 +77,7 @@ children_cpu() { awk -v hz="$(getconf CLK_TCK)" '{ sub(/^.*\) /, ""); print ($14
 busy_before=$(cpu_busy)
 own_before=$(children_cpu)
 wall_before=$(date +%s.%N)
-# OpenBLAS (behind CHOLMOD) must not keep spinning threads next to drape's own (docs/benchmarks.md).
+# OpenBLAS (behind CHOLMOD) must not keep spinning threads next to drape's own (docs/implicit.md).
 OPENBLAS_NUM_THREADS=1 "$build/bench/drape_bench" \
   --benchmark_repetitions="$reps" \
   --benchmark_enable_random_interleaving=true \
@@ -125,5 +125,4 @@ json.dump({
 PY
 
 "$python" scripts/bench_report.py --bench "$data/bench.json" --machine "$data/machine.json" \
-  --compile-time "$ct_json" --markdown "$docs/benchmarks.md" --plot "$docs/images/bench_step_time.png" \
-  --notes bench/analysis.md
+  --compile-time "$ct_json" --markdown "$docs/benchmarks.md" --plot "$docs/images/bench_step_time.png"

@@ -6,13 +6,14 @@
         --plot docs/images/bench_step_time.png
 
 Normally run by scripts/bench.sh. Every figure in the page comes from these JSON files: medians over
-the repetitions of one run, ratios taken within that run. Benchmark names have the form
-`family/key=value/.../n:N/threads:T` (bench/bench_common.hpp).
+the repetitions of one run, ratios taken within that run; the page describes that run and nothing
+else (docs/performance.md explains the figures). Run on the stored JSON it regenerates the same page
+without running a benchmark; `--keep-plot` then links the plot without redrawing it (no matplotlib
+needed). Benchmark names have the form `family/key=value/.../n:N/threads:T` (bench/bench_common.hpp).
 """
 import argparse
 import json
 import math
-import os
 import statistics
 from collections import defaultdict
 
@@ -148,7 +149,7 @@ def fit_exponent(points):
 def method_label(method):
     d = dict(method)
     parts = [d["impl"]] if "impl" in d else []
-    for k in ("solver", "preconditioner", "jacobian", "what"):
+    for k in ("solver", "preconditioner", "jacobian", "what", "form"):
         if k in d:
             parts.append(d[k])
     if "dt" in d:
@@ -176,6 +177,9 @@ FAMILY_TEXT = {
                         "the baseline is the textbook RK2 step, so the ratio is per simulated second at equal dt"),
     "jacobian_assembly": ("Jacobian assembly", "df/dx and df/dv (or the system matrix) at the warm state"),
     "linear_solve": ("Linear solve", "one solve of the implicit system at the warm state"),
+    "matvec": ("Mat-vec", "one product y = A x of the implicit system (Spd, dt = 1/60) at the warm state: "
+               "`edges` the per-spring edge form, `blocks` the block-row (block CSR) matrix, the baseline "
+               "its scalar CSC matrix"),
     "implicit_step": ("Implicit step", "one linearised implicit Euler step (assembly + solve + update)"),
     "setup": ("Set-up", "building the scene and the integrator (pattern, symbolic analysis)"),
 }
@@ -187,6 +191,8 @@ GROWTH_WHY = {
     "symplectic_step": "one force pass plus the update: linear in the nodes, about half an RK2 step.",
     "jacobian_assembly": "one pass over the springs writing 3x3 blocks: linear in the nodes (the "
                          "triplet baseline adds a sort of all entries, n log n).",
+    "matvec": "one pass over the springs (edge form) or the block rows: linear in the nodes; above 1 "
+              "where the matrix stops fitting in cache.",
     "linear_solve": "CG: the iteration count does not grow with the grid (multigrid: ~10; block "
                     "Jacobi: 120-190, set by dt^2 ks / m), and each iteration costs a fixed number "
                     "of linear-cost mat-vecs (multigrid: the levels add up to ~4/3 of the finest), so "
@@ -266,16 +272,16 @@ ENVIRONMENT_GOAL = {"drag": 5, "drag_gusts": 5, "colliders8": 15}
 
 
 def environment_section(results):
-    """Issue 12's costs: the environment against the bare cloth of the same run, the scenes, detection."""
+    """The environment's costs: the environment against the bare cloth of the same run, the scenes, detection."""
     env = [r for r in results if r.family == "environment_step"]
     if not env:
         return []
     sizes = sorted({r.n for r in env})
-    lines = ["## Contact and environment (issue 12)", "",
+    lines = ["## Contact and environment", "",
              "`environment_step`: one implicit step (dt = 1/60, default solver, 2 threads) of the hanging cloth "
              "with its environment; in brackets the cost over the bare cloth (`env=none`) of the same run. "
-             "Goals: colliders at most +15%, drag and wind at most +5% (bench/analysis.md has the measured "
-             "limits of the per-triangle aerodynamics).", "",
+             "Goals: colliders at most +15%, drag and wind at most +5% ([performance.md](performance.md) has the "
+             "measured limits of the per-triangle aerodynamics).", "",
              "| environment | goal | " + " | ".join(f"{n} x {n}" for n in sizes) + " |",
              "|---|---|" + "---|" * len(sizes)]
     bare = {r.n: r for r in env if r.attrs.get("env") == "none"}
@@ -326,12 +332,12 @@ def environment_section(results):
 
 
 def self_collision_section(results):
-    """Issue 13's costs: the fold's step with self-collision on against off, and the broad phase per node."""
+    """Self-collision's costs: the fold's step with self-collision on against off, and the broad phase per node."""
     fold = [r for r in results if r.family == "fold_step"]
     broad = sorted((r for r in results if r.family == "broad_phase"), key=lambda r: r.n)
     if not fold and not broad:
         return []
-    lines = ["## Self-collision (issue 13)", ""]
+    lines = ["## Self-collision", ""]
     if fold:
         sizes = sorted({r.n for r in fold})
         lines += ["`fold_step`: one implicit step (dt = 1/60, 2 threads) of scenes/fold_on_sphere.toml's cloth at "
@@ -359,7 +365,7 @@ def self_collision_section(results):
 def baseline_for(results, r):
     """The baseline result comparable to r: same family, size and dt (and Jacobian family)."""
     if r.family not in ("force_assembly", "rk2_step", "symplectic_step", "implicit_step", "jacobian_assembly",
-                        "linear_solve"):
+                        "linear_solve", "matvec"):
         return None
     attrs = {"impl": "baseline", "n": r.n}
     if "dt" in r.attrs:
@@ -371,7 +377,7 @@ def speedup_table(results):
     lines = ["### Two threads against one", "",
              "Median 1-thread time / median 2-thread time of the same method and size.", ""]
     rows = []
-    for family in ("force_assembly", "rk2_step", "jacobian_assembly", "linear_solve", "implicit_step"):
+    for family in ("force_assembly", "rk2_step", "jacobian_assembly", "matvec", "linear_solve", "implicit_step"):
         for m, group in sorted(by_method(results, family).items(), key=lambda kv: method_label(kv[0])):
             d = dict(m)
             if d.get("threads") != "2":
@@ -476,7 +482,7 @@ def targets(results, context):
         i1, i2 = implicit(n, "1_60", 1), implicit(n, "1_60", 2)
         s = i1.median_ms / i2.median_ms if i1 and i2 else None
         row(f"{n} x {n} implicit dt = 1/60, 2 threads against 1", ">= 1.7x",
-            f"{fmt_ratio(s)} ({fmt_time(i1.median_ms)} -> {fmt_time(i2.median_ms)})" if s else "-", s >= 1.7 if s else None)
+            f"{s:.2f}x ({fmt_time(i1.median_ms)} -> {fmt_time(i2.median_ms)})" if s else "-", s >= 1.7 if s else None)
     # How far up real time holds: per size the faster of 1 and 2 threads (a user picks the faster),
     # the largest measured size under 1/60 s, and the fitted extrapolation beyond it.
     best = {}
@@ -550,8 +556,9 @@ def main():
     ap.add_argument("--machine")
     ap.add_argument("--compile-time")
     ap.add_argument("--markdown", required=True)
-    ap.add_argument("--plot")
-    ap.add_argument("--notes", help="hand-written markdown appended verbatim (analysis of misses)")
+    ap.add_argument("--plot", help="the plot's path (drawn with matplotlib) and linked from the page")
+    ap.add_argument("--keep-plot", action="store_true",
+                    help="link the plot at --plot without redrawing it (the page regenerated from stored JSON)")
     args = ap.parse_args()
 
     context, results = load_results(args.bench)
@@ -569,7 +576,7 @@ def main():
     out.append(f"| CPU | {machine.get('cpu_model', '?')} (family {machine.get('cpu_family', '?')}), "
                f"{machine.get('cores', context.get('num_cpus', '?'))} cores, "
                f"{machine.get('threads_per_core', '?')} thread(s) per core"
-               f"{', ' + machine['hypervisor'] + ' guest' if machine.get('hypervisor') else ''} |")
+               f"{', ' + machine['hypervisor'] + ' virtual machine' if machine.get('hypervisor') else ''} |")
     for r in sorted(find(results, "machine", what="stream_triad"), key=lambda r: r.threads):
         bw = r.counter("bytes_per_second")
         if bw:
@@ -594,7 +601,7 @@ def main():
     out.append("")
 
     out += ["## Timed states and accuracy", "",
-            "Scene: the brief's cloth (0.1 m spacing, 0.03 kg per node, g = 10 m/s^2, ks/kd = 20000/10 "
+            "Scene: the default cloth (0.1 m spacing, 0.03 kg per node, g = 10 m/s^2, ks/kd = 20000/10 "
             "structural, 5000/5 shear, 500/1 bend), both corners (0,0) and (N-1,0) pinned, N x N nodes. "
             f"Every step benchmark starts from the state after a warm-up of {float(context.get('warm_up_time_s', 'nan')):g} s "
             f"of simulated time ({context.get('warm_up_method', '?')}), when the cloth is falling and "
@@ -609,10 +616,11 @@ def main():
         out += [context["accuracy"], ""]
 
     target_rows, realtime_note = targets(results, context)
-    out += ["## Targets (issue 14)", "",
-            "The per-step targets of issue 14, from this run. Wall time per simulated second against the "
-            "peers (the issue's first target) comes from `drape_sim_second` (below, \"Wall time per simulated "
-            "second\"), not from this suite.", ""]
+    out += ["## Targets", "",
+            "The per-step performance targets, checked against this run; [performance.md](performance.md) (\"The "
+            "targets and what stops each\") says what stops each missed line. The target per simulated second, "
+            "against the best peer, comes from `drape_sim_second` ([performance.md](performance.md), \"Per "
+            "simulated second\"), not from this suite.", ""]
     share = machine.get("other_processes_cpu_share")
     load_before = float(machine.get("loadavg_before", "0").split()[0])
     if (share is not None and share > 0.1) or load_before >= 1.0:
@@ -631,8 +639,8 @@ def main():
         out += ["![step time against nodes](images/bench_step_time.png)", ""]
 
     out += ["## Results by family", ""]
-    for family in ("implicit_step", "linear_solve", "jacobian_assembly", "rk2_step", "symplectic_step", "force_assembly",
-                   "setup"):
+    for family in ("implicit_step", "linear_solve", "matvec", "jacobian_assembly", "rk2_step", "symplectic_step",
+                   "force_assembly", "setup"):
         out += family_table(results, family, baseline_for)
     out += speedup_table(results)
     out += dispatch_section(results)
@@ -642,8 +650,8 @@ def main():
     out += ["## Cost growth", "",
             "The `exponent` column of each table is the least-squares slope of log(time) against "
             "log(nodes) over the measured sizes (time ~ nodes^k). Why each method grows as it does:", ""]
-    for family in ("force_assembly", "rk2_step", "symplectic_step", "jacobian_assembly", "linear_solve", "implicit_step",
-                   "setup"):
+    for family in ("force_assembly", "rk2_step", "symplectic_step", "jacobian_assembly", "matvec", "linear_solve",
+                   "implicit_step", "setup"):
         if by_method(results, family):
             out.append(f"- **{FAMILY_TEXT[family][0]}**: {GROWTH_WHY[family]}")
     out.append("")
@@ -661,18 +669,19 @@ def main():
             out.append(f"| `bench/compile_time/{probe}.cpp` | {what.get(probe, probe)} | {t:.2f} s |")
         out.append("")
 
-    if args.notes and os.path.exists(args.notes):
-        out += [open(args.notes).read().rstrip(), ""]
-
     out += ["## Reproduce", "", "```sh", "scripts/bench.sh                      # build, run, regenerate this page",
             "DRAPE_BENCH_QUIET_WAIT=600 scripts/bench.sh   # first wait up to 10 min for an idle machine",
+            "python3 scripts/bench_report.py --bench docs/data/bench.json --machine docs/data/machine.json \\",
+            "  --compile-time docs/data/compile_time.json --markdown docs/benchmarks.md \\",
+            "  --plot docs/images/bench_step_time.png --keep-plot   # this page again from the stored JSON",
             "build/bench/bench/drape_bench --benchmark_filter=rk2_step   # one family, console only",
             "build/bench/bench/drape_sim_second 33 65 129 257 --reference   # wall time per simulated second",
             "build/bench/bench/drape_memory 33 65 129 257                    # heap bytes per node",
-            "build/bench/bench/drape_refinement                               # refinement study: CG iterations against n",
-            "```", ""]
+            "build/bench/bench/drape_preconditioner_ab 33 1 41 60            # multigrid against multigrid-float",
+            "build/bench/bench/drape_refinement                               # CG iterations against the grid size",
+            "```", "", "[performance.md](performance.md) explains the figures and gives the command behind each of its own.", ""]
     open(args.markdown, "w").write("\n".join(out))
-    if args.plot:
+    if args.plot and not args.keep_plot:
         write_plot(results, context, args.plot)
 
 

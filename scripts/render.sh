@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The main job: render the default scene (the brief's 33 x 33 cloth, two corners pinned, RK2) to a
+# The main job: render the default scene (the 33 x 33 cloth, two corners pinned, RK2) to a
 # folder of PNG frames with the headless viewer. Installs missing Debian packages first.
 #   scripts/render.sh [drape-render flags...]     e.g. --boundary 1 --integrator implicit --dt 0.005
 # Frames go to out/frames unless --out is given; `drape-render --help` lists every flag.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Soak test (not part of the unit tests): the brief's default scene for a million steps with each
+# Soak test (not part of the unit tests): the default scene for a million steps with each
 # integrator (RK2 at its default dt = 0.5 ms, implicit Euler at dt = 1/60 s), checking that every
 # step succeeds, the state stays finite, the total energy never rises above its start, and peak
 # memory does not grow after the warm-up. Builds tests/soak/soak.cpp in Release in build/soak.

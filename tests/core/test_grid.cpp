@@ -26,7 +26,7 @@ TEMPLATE_TEST_CASE("grid numbers nodes row by row and lays them flat and horizon
   REQUIRE(grid.total_mass() == Approx(3.0));
 }
 
-TEST_CASE("the brief's grid is 3.2 m wide", "[grid]") {
+TEST_CASE("the default grid is 3.2 m wide", "[grid]") {
   const Grid<double> grid(33, 33, 0.1, 0.03);
   const auto x = grid.rest_positions();
   REQUIRE((x.col(grid.node(32, 0)) - x.col(grid.node(0, 0))).norm() == Approx(3.2));

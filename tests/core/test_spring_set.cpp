@@ -7,7 +7,7 @@
 
 using namespace drape;
 
-TEMPLATE_TEST_CASE("the brief's 33 x 33 cloth has 2112 structural, 2048 shear, 2046 bend springs", "[springs]", float,
+TEMPLATE_TEST_CASE("the default 33 x 33 cloth has 2112 structural, 2048 shear, 2046 bend springs", "[springs]", float,
                    double) {
   const Grid<TestType> grid(33, 33, TestType(0.1), TestType(0.03));
   const SpringSet<TestType> springs(grid, {{1, 2}, {3, 4}, {5, 6}});

@@ -63,7 +63,7 @@ TEST_CASE("a step with a bad dt or a state of the wrong size is rejected", "[val
   REQUIRE_THROWS_WITH(rk2.step(wrong), Contains("'state'"));
 }
 
-TEST_CASE("boundary presets pin the brief's corners", "[validation]") {
+TEST_CASE("boundary presets pin corner (0,0), or (0,0) and (nx-1,0)", "[validation]") {
   ClothSpec<double> spec;
   spec.boundary = BoundaryCondition::OneCorner;
   REQUIRE(Cloth<double>(spec).pins().nodes() == std::vector<int>{0});

@@ -26,7 +26,7 @@ bool throws_naming(const std::function<void()>& f, const std::string& word) {
   return false;
 }
 
-ClothSpecd brief_scene(BoundaryCondition bc) {
+ClothSpecd default_scene(BoundaryCondition bc) {
   ClothSpecd spec;  // 33 x 33, 0.1 m, 0.03 kg, g = 10, default springs
   spec.boundary = bc;
   return spec;
@@ -144,7 +144,7 @@ TEST_CASE("with kd = 0 the total energy never increases", "[implicit][energy]") 
 }
 
 TEST_CASE("static equilibrium: the pins carry the cloth's weight (326.7 N)", "[implicit][equilibrium]") {
-  const Clothd cloth(brief_scene(BoundaryCondition::TwoCorners));
+  const Clothd cloth(default_scene(BoundaryCondition::TwoCorners));
   ImplicitOptions o;
   o.dt = 0.3;
   o.solver = LinearSolverKind::Ldlt;
@@ -163,9 +163,9 @@ TEST_CASE("static equilibrium: the pins carry the cloth's weight (326.7 N)", "[i
   CHECK(max_free_force(cloth, s) < 1e-3);  // N, against ~0.3 N of weight per node
 }
 
-TEST_CASE("the brief's scene stays stable at dt = 1/60 s and 0.1 s, where RK2 blows up", "[implicit][stability]") {
+TEST_CASE("the default scene stays stable at dt = 1/60 s and 0.1 s, where RK2 blows up", "[implicit][stability]") {
   for (BoundaryCondition bc : {BoundaryCondition::OneCorner, BoundaryCondition::TwoCorners}) {
-    const Clothd cloth(brief_scene(bc));
+    const Clothd cloth(default_scene(bc));
     for (double dt : {1.0 / 60, 0.1}) {
       INFO("boundary " << int(bc) << ", dt " << dt);
       ImplicitOptions defaults;
@@ -193,9 +193,10 @@ TEST_CASE("the brief's scene stays stable at dt = 1/60 s and 0.1 s, where RK2 bl
   }
 }
 
-TEST_CASE("every Jacobian variant with every solver runs the brief's scene, both boundary conditions", "[implicit][solvers]") {
+TEST_CASE("every Jacobian variant with every solver runs the default scene, both boundary conditions",
+          "[implicit][solvers]") {
   for (BoundaryCondition bc : {BoundaryCondition::OneCorner, BoundaryCondition::TwoCorners}) {
-    const Clothd cloth(brief_scene(bc));
+    const Clothd cloth(default_scene(bc));
     State<double> reference;
     for (JacobianVariant variant : {JacobianVariant::Spd, JacobianVariant::Symmetric, JacobianVariant::Exact}) {
       for (const LinearSolverKind kind : available_solvers()) {
@@ -240,7 +241,7 @@ TEST_CASE("filtered and eliminated pins give the same trajectory", "[implicit][p
 }
 
 TEST_CASE("a failed step leaves the state unchanged and says why", "[implicit][failure]") {
-  const Clothd cloth(brief_scene(BoundaryCondition::TwoCorners));
+  const Clothd cloth(default_scene(BoundaryCondition::TwoCorners));
   SECTION("iteration cap") {
     ImplicitOptions o;
     o.dt = 1.0 / 60;
@@ -287,11 +288,11 @@ TEST_CASE("a failed step leaves the state unchanged and says why", "[implicit][f
   }
 }
 
-TEST_CASE("the float V-cycle (multigrid-float) follows the double one: brief scene, wind, contact",
+TEST_CASE("the float V-cycle (multigrid-float) follows the double one: default scene, wind, contact",
           "[implicit][mixed]") {
-  // Three systems it must handle: the brief's (edge form), a flag in the wind (air blocks on the
+  // Three systems it must handle: the default scene's (edge form), a flag in the wind (air blocks on the
   // diagonal of the edge form) and a cloth falling on a sphere (projected contact constraints).
-  ClothSpecd brief = brief_scene(BoundaryCondition::TwoCorners);
+  ClothSpecd hanging = default_scene(BoundaryCondition::TwoCorners);
   ClothSpecd flag;
   std::vector<int> edge;
   for (int j = 0; j < flag.ny; ++j) edge.push_back(j * flag.nx);
@@ -305,7 +306,7 @@ TEST_CASE("the float V-cycle (multigrid-float) follows the double one: brief sce
   ClothSpecd draped = test::small_spec<double>(17, 10.0);
   draped.pinned_nodes = std::vector<int>{};
   draped.colliders.push_back(Colliderd::sphere(Vec3<double>(0.8, -0.6, 0.8), 0.5));
-  const std::pair<const char*, ClothSpecd> scenes[] = {{"brief", brief}, {"flag", flag}, {"draped", draped}};
+  const std::pair<const char*, ClothSpecd> scenes[] = {{"default", hanging}, {"flag", flag}, {"draped", draped}};
   for (const auto& [name, spec] : scenes) {
     const Clothd cloth(spec);
     State<double> s[2] = {cloth.initial_state(), cloth.initial_state()};

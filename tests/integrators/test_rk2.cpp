@@ -33,7 +33,7 @@ TEMPLATE_TEST_CASE("one fused RK2 step equals the midpoint rule written out with
                    float, double) {
   using S = TestType;
   for (int threads : {1, 2}) {
-    ClothSpec<S> spec;  // the brief's cloth: 6.2k springs, two threads are used
+    ClothSpec<S> spec;  // the default cloth: 6.2k springs, two threads are used
     spec.boundary = BoundaryCondition::TwoCorners;
     const Cloth<S> cloth(spec);
     State<S> s = cloth.initial_state();
@@ -41,7 +41,7 @@ TEMPLATE_TEST_CASE("one fused RK2 step equals the midpoint rule written out with
     s.velocities = test::random_velocities<S>(cloth.node_count(), S(1), 32);
     s.velocities.col(cloth.pins().nodes().back()) = Vec3<S>(1, -2, 3);  // ignored: pinned
     const S dt = S(IntegratorOptions{}.dt), half = dt / 2;
-    // The midpoint rule of the brief, one Eigen expression per line.
+    // The explicit midpoint rule, one Eigen expression per line.
     const ForceAssembler<S> forces(cloth, 1);
     const auto acceleration = [&](const Matrix3X<S>& x, const Matrix3X<S>& v) {
       Matrix3X<S> f(3, cloth.node_count());

@@ -38,7 +38,7 @@ TEMPLATE_TEST_CASE("one symplectic Euler step: v += dt f(x, v) / m, then x += dt
                    "[symplectic][stages]", float, double) {
   using S = TestType;
   for (int threads : {1, 2}) {
-    ClothSpec<S> spec;  // the brief's cloth: 6.2k springs, two threads are used
+    ClothSpec<S> spec;  // the default cloth: 6.2k springs, two threads are used
     spec.boundary = BoundaryCondition::TwoCorners;
     const Cloth<S> cloth(spec);
     State<S> s = cloth.initial_state();

@@ -216,7 +216,7 @@ TEST_CASE("damping dissipates: power of the damping forces is -sum kd (v_ij . u)
 }
 
 TEST_CASE("1 and 2 threads give bitwise identical forces", "[assembler][threads]") {
-  for (int n : {33, 129}) {  // the brief's cloth (6.2k springs) already uses the second thread
+  for (int n : {33, 129}) {  // the default cloth (6.2k springs) already uses the second thread
     ClothSpec<double> spec;
     spec.nx = spec.ny = n;
     const Cloth<double> cloth(spec);

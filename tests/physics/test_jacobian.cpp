@@ -108,7 +108,7 @@ TEST_CASE("the Spd system matrix factorises where the Symmetric one does not (he
   CHECK(test::cholesky_succeeds(a.to_dense()));
 }
 
-TEST_CASE("system matrix and right-hand side follow the brief's formula", "[jacobian]") {
+TEST_CASE("system matrix and right-hand side follow the linearised implicit Euler formula", "[jacobian]") {
   // A = M - dt df/dv - dt^2 df/dx, b = dt (f + dt df/dx v), checked against the separately
   // assembled Jacobians and the force assembler, with two pinned nodes eliminated.
   ClothSpecd spec = damped_spec(4);

@@ -38,7 +38,7 @@ Stated run(Integrator<double>& integrator, const Clothd& cloth, int steps) {
 }
 
 /// 48 x 48 nodes: 13.5k springs, enough work for both assemblers to use 2 threads (the Jacobian
-/// assembly stays on one below 8192 springs; the brief's 33 x 33 cloth has 6.2k).
+/// assembly stays on one below 8192 springs; the default 33 x 33 cloth has 6.2k).
 ClothSpecd threaded_spec() {
   ClothSpecd spec;
   spec.nx = 48;
@@ -109,7 +109,7 @@ TEST_CASE("RK2 with 1 and 2 threads agree bit for bit", "[reliability][determini
   // Every spring force is computed by one thread, and each node sums its springs' forces in
   // blocks of fixed size and a fixed order whatever the thread count (no atomics or reductions),
   // so the thread count cannot change a bit.
-  for (const ClothSpecd& spec : {ClothSpecd{}, threaded_spec()}) {  // the brief's 33 x 33 and 48 x 48
+  for (const ClothSpecd& spec : {ClothSpecd{}, threaded_spec()}) {  // the default 33 x 33 and 48 x 48
     const Clothd cloth{spec};
     REQUIRE(same_bits(run_rk2(cloth, 1, 500), run_rk2(cloth, 2, 500)));
   }

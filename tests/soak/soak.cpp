@@ -1,4 +1,4 @@
-// Soak run (not a unit test; scripts/soak.sh drives it): the brief's default scene for many steps
+// Soak run (not a unit test; scripts/soak.sh drives it): the default scene for many steps
 // with one integrator. Checks after every step that the step succeeded (a failed step would leave
 // the state unchanged and is reported), and every `check_every` steps that the state is finite and
 // the total energy stays bounded by its starting value; reports peak RSS and current RSS after the
