@@ -444,10 +444,9 @@ bool parse_settings(int argc, char** argv, Settings& s, int& exit_code) {
 
 Settings read_settings(const std::string& scene, const std::vector<std::string>& flags) {
   Settings s;
+  s.scene = scene;  // a --scene among the flags replaces it
   CommandLine line(s);
-  std::vector<std::string> args = {"--scene", scene};
-  args.insert(args.end(), flags.begin(), flags.end());
-  std::reverse(args.begin(), args.end());  // CLI11 takes a vector's arguments from its end
+  std::vector<std::string> args(flags.rbegin(), flags.rend());  // CLI11 takes a vector's arguments from its end
   try {
     line.app.parse(args);
   } catch (const CLI::CallForHelp&) {
