@@ -14,11 +14,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <mutex>
-#include <set>
 #include <variant>
 
 #include "bindings.hpp"
+#include "helpers.hpp"
+#include "render_settings.hpp"
 #include "drape/config.hpp"
 #include "drape/integrators/make_integrator.hpp"
 #include "drape/io/obj.hpp"
@@ -29,55 +29,9 @@
 namespace drape::python {
 
 using namespace nb::literals;
-using Vector = std::array<double, 3>;
 using NodeArray = nb::ndarray<nb::numpy, double, nb::shape<-1, 3>, nb::c_contig>;
-using NodeInput = nb::ndarray<const double, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
 
 namespace {
-
-drape::Vec3<double> vec3(const Vector& v) { return {v[0], v[1], v[2]}; }
-Vector array3(const drape::Vec3<double>& v) { return {v[0], v[1], v[2]}; }
-
-// ---- errors -------------------------------------------------------------------------------------
-
-PyObject* invalid_parameter_type = nullptr;
-
-/// drape.InvalidParameter (a ValueError) with the parameter, value and allowed range as attributes.
-void translate_invalid_parameter(const std::exception_ptr& p, void*) {
-  try {
-    std::rethrow_exception(p);
-  } catch (const drape::InvalidParameter& e) {
-    nb::object error = nb::borrow(invalid_parameter_type)(nb::str(e.what()));
-    nb::setattr(error, "parameter", nb::str(e.parameter().c_str()));
-    nb::setattr(error, "value", nb::str(e.value().c_str()));
-    nb::setattr(error, "allowed", nb::str(e.allowed().c_str()));
-    PyErr_SetObject(invalid_parameter_type, error.ptr());
-  }
-}
-
-/// A Python exception raised inside a pin path's callback during a step: the step sees a NaN
-/// position and fails, and the error is raised once the step is over. Only touched with the GIL.
-std::optional<nb::python_error>& pending_callback_error() {
-  static auto* error = new std::optional<nb::python_error>();  // never destroyed: outlives the interpreter
-  return *error;
-}
-
-/// Raises the pending callback error, if any.
-void raise_pending_callback_error() {
-  std::optional<nb::python_error>& pending = pending_callback_error();
-  if (!pending) return;
-  nb::python_error error = std::move(*pending);
-  pending.reset();
-  throw error;
-}
-
-[[noreturn]] void fail_step(const drape::StepStatus& status, double time) {
-  raise_pending_callback_error();
-  char at[64];
-  std::snprintf(at, sizeof at, "%.17g", time);
-  throw StepFailed(std::string("drape: the step from t = ") + at + " s failed: " + drape::to_string(status.error) +
-                   "; the state is unchanged");
-}
 
 // ---- node arrays --------------------------------------------------------------------------------
 
@@ -244,104 +198,6 @@ drape::SpringParams<double> spring_params(const SpringInput& in) {
 template <class Enum>
 std::vector<std::string> names_of() {
   return drape::names<Enum>();
-}
-
-}  // namespace
-
-// ---- shared with render_bindings.cpp ------------------------------------------------------------
-
-drape::ClothSpecd library_spec(const ClothSpecWithAir& spec) {
-  spec.validate();
-  spec.air.validate();
-  drape::ClothSpecd out = spec;
-  if (spec.air.active()) {
-    const drape::Grid<double> grid(spec.nx, spec.ny, spec.spacing, spec.node_mass);
-    for (auto& term : drape::air_force_terms<double>(spec.air, grid.triangles())) out.force_terms.push_back(term);
-  }
-  return out;
-}
-
-namespace {
-std::mutex busy_mutex;
-std::set<const void*> busy_objects;
-}  // namespace
-
-BusyGuard::BusyGuard(std::initializer_list<const void*> objects, const char* what) {
-  const std::lock_guard<std::mutex> lock(busy_mutex);
-  for (const void* o : objects)
-    if (busy_objects.count(o))
-      throw std::runtime_error(std::string("drape: ") + what +
-                               " is being stepped by another call (another thread, "
-                               "or a callback of its run())");
-  for (const void* o : objects) {
-    busy_objects.insert(o);
-    m_objects.push_back(o);
-  }
-}
-
-BusyGuard::~BusyGuard() {
-  const std::lock_guard<std::mutex> lock(busy_mutex);
-  for (const void* o : m_objects) busy_objects.erase(o);
-}
-
-namespace {
-std::vector<drape::ClothSpecd> library_specs(const std::vector<ClothSpecWithAir>& specs) {
-  std::vector<drape::ClothSpecd> out;
-  for (std::size_t k = 0; k < specs.size(); ++k) {
-    try {
-      out.push_back(library_spec(specs[k]));
-    } catch (const drape::InvalidParameter& e) {  // named as ClothScene names its cloths' errors
-      throw drape::InvalidParameter("cloths[" + std::to_string(k) + "]." + e.parameter(), e.value(), e.allowed());
-    }
-  }
-  return out;
-}
-}  // namespace
-
-PyClothScene::PyClothScene(const std::vector<ClothSpecWithAir>& specs, drape::IntegratorKind kind,
-                           const drape::ImplicitOptions& options,
-                           const drape::SelfCollisionSettings<double>& collisions)
-    : m_scene(library_specs(specs), kind, options, collisions) {
-  for (int k = 0; k < m_scene.cloth_count(); ++k) m_states.push_back(std::make_unique<SharedState>(m_scene.state(k)));
-}
-
-PyClothScene::PyClothScene(std::shared_ptr<const drape::render::Settings> settings,
-                           const std::vector<drape::ClothSpecd>& specs, drape::Stated start)
-    : m_scene(specs, settings->integrator, settings->stepping, settings->cloth.self_collision),
-      m_settings(std::move(settings)) {
-  m_scene.state(0) = std::move(start);
-  m_schedule.emplace(*m_settings);
-  apply_schedule();  // those due at the start
-  for (int k = 0; k < m_scene.cloth_count(); ++k) m_states.push_back(std::make_unique<SharedState>(m_scene.state(k)));
-}
-
-SharedState& PyClothScene::state(int k) {
-  if (k < 0 || k >= m_scene.cloth_count())
-    throw nb::index_error(
-        ("drape: cloth " + std::to_string(k) + " of a scene of " + std::to_string(m_scene.cloth_count()) + " cloths")
-            .c_str());
-  return *m_states[std::size_t(k)];
-}
-
-void PyClothScene::apply_schedule() {
-  if (m_schedule) m_schedule->apply(m_scene.state(0).time, m_scene.integrator(0).dt(), m_scene.integrator(0).pins());
-}
-
-void PyClothScene::to_scene() {
-  for (std::size_t k = 0; k < m_states.size(); ++k) m_states[k]->copy_to(m_scene.state(int(k)));
-}
-
-void PyClothScene::from_scene() {
-  for (std::size_t k = 0; k < m_states.size(); ++k) m_states[k]->copy_from(m_scene.state(int(k)));
-}
-
-namespace {
-
-/// \throws InvalidParameter naming `state` unless it has one node per node of `cloth`.
-void require_fits(const drape::Clothd& cloth, const SharedState& state) {
-  if (state.node_count() != cloth.node_count())
-    drape::detail::fail_argument("state", std::to_string(state.node_count()) + " nodes",
-                                 std::to_string(cloth.node_count()) + " nodes (the cloth's)");
 }
 
 const drape::Stated& fitting_state(const drape::Clothd& cloth, const SharedState& state) {
@@ -1083,15 +939,7 @@ NB_MODULE(_drape, m) {
   m.attr("__version__") = std::to_string(DRAPE_VERSION_MAJOR) + "." + std::to_string(DRAPE_VERSION_MINOR) + "." +
                           std::to_string(DRAPE_VERSION_PATCH);
 
-  invalid_parameter_type =
-      PyErr_NewExceptionWithDoc("_drape.InvalidParameter",
-                                "A parameter outside its allowed range (a ValueError); .parameter, .value and "
-                                ".allowed give the three parts of the message.",
-                                PyExc_ValueError, nullptr);
-  m.attr("InvalidParameter") = nb::handle(invalid_parameter_type);
-  nb::register_exception_translator(translate_invalid_parameter);
-  nb::exception<StepFailed>(m, "SimulationError", PyExc_RuntimeError).attr("__doc__") =
-      "A step failed (diverged, or the linear solver failed); the state is as after the last good step.";
+  bind_errors(m);
   nb::exception<drape::render::SettingsError>(m, "SceneFileError", PyExc_ValueError).attr("__doc__") =
       "A scene file or drape-render flag is invalid; the message names the key or flag.";
   nb::exception<drape::StateFormatError>(m, "StateFormatError", PyExc_ValueError).attr("__doc__") =

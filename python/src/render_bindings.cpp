@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bindings.hpp"
+#include "helpers.hpp"
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
 #include "drape/viewer/collider_mesh.hpp"
@@ -69,6 +70,18 @@ ClothSpecWithAir python_spec(const drape::ClothSpecd& spec, const drape::AirSett
   out.force_terms.clear();
   out.air = air;
   return out;
+}
+
+/// A new scene of the file's cloths, starting where drape-render starts, its first cloth following
+/// the file's [[moving-pins]] tables.
+PyClothScene* make_scene(const SceneFile& f) {
+  // The schedule keeps pointers into the settings: the step hook keeps both.
+  std::shared_ptr<const drape::render::Settings> settings = f.settings;
+  auto schedule = std::make_shared<drape::render::PinSchedule>(*settings);
+  return new PyClothScene(f.prepared.specs, settings->integrator, settings->stepping, settings->cloth.self_collision,
+                          f.prepared.start, [settings, schedule](drape::ClothScene<double>& scene) {
+                            schedule->apply(scene.state(0).time, scene.integrator(0).dt(), scene.integrator(0).pins());
+                          });
 }
 
 // ---- rendering ----------------------------------------------------------------------------------
@@ -322,7 +335,7 @@ void bind_scene_file_and_renderer(nb::module_& m) {
           "floor_height", [](const SceneFile& f) { return f.prepared.floor_y; }, "m: y of the floor.")
       .def(
           "make_scene",
-          [](const SceneFile& f) { return new PyClothScene(f.settings, f.prepared.specs, f.prepared.start); },
+          &make_scene,
           "A new ClothScene of the file's cloths, integrator and collisions, starting where drape-render "
           "starts; its first cloth follows the file's [[moving-pins]] tables.")
       .def(
