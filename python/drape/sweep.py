@@ -9,7 +9,9 @@ Parquet table of per-run metrics. Restarting a sweep runs only the runs that hav
     table = run_sweep("python/examples/stiffness_sweep.toml", "out/stiffness", workers=2)
 
 or ``drape-sweep SPEC --out DIR [--workers N] [--scheduler ADDR] [--no-progress]``.
-Needs dask, distributed, pyarrow and tqdm (``pip install dask distributed pyarrow tqdm``).
+Needs dask, distributed, pyarrow and tqdm, the extra ``sweep`` (``pip install ".[sweep]"``);
+without them run_sweep raises MissingDependencyError and drape-sweep exits with status 2, before
+either creates anything.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import argparse
 import concurrent.futures
 import copy
 import hashlib
+import importlib
 import itertools
 import json
 import math
@@ -30,7 +33,11 @@ import time
 import tomllib
 import uuid
 
-__all__ = ["SweepSpecError", "Sweep", "load_spec", "run_sweep", "local_cluster", "main", "METRICS"]
+__all__ = ["SweepSpecError", "MissingDependencyError", "Sweep", "load_spec", "run_sweep", "local_cluster",
+           "check_dependencies", "main", "METRICS", "DEPENDENCIES"]
+
+#: The packages a sweep needs besides drape: pyproject.toml's extra ``sweep``.
+DEPENDENCIES = ("dask", "distributed", "pyarrow", "tqdm")
 
 #: Per-run metrics, in the table's column order. Energies are summed over the scene's cloths,
 #: max_strain and lowest_y are over all of them.
@@ -59,6 +66,30 @@ _RESERVED_FLAGS = {"scene", "out", "save-state", "obj", "video", "realtime", "re
 
 class SweepSpecError(ValueError):
     """A sweep spec that cannot run; the message names the key."""
+
+
+class MissingDependencyError(ImportError):
+    """A package of DEPENDENCIES cannot be imported; the message names it and the install command."""
+
+
+def check_dependencies():
+    """Raises MissingDependencyError naming every package of DEPENDENCIES that cannot be imported."""
+    missing = []
+    for name in DEPENDENCIES:
+        try:
+            importlib.import_module(name)
+        except ModuleNotFoundError as error:
+            if error.name is None or error.name.split(".")[0] != name:
+                missing.append(f"{name} ({error})")     # installed, but something it imports is not
+            else:
+                missing.append(name)
+        except ImportError as error:                    # installed but broken, e.g. built for another numpy
+            missing.append(f"{name} ({error})")
+    if missing:
+        raise MissingDependencyError(
+            f"a sweep needs {', '.join(DEPENDENCIES[:-1])} and {DEPENDENCIES[-1]}, which a plain "
+            f"`pip install .` leaves out; missing: {', '.join(missing)}. Install them with "
+            f"`pip install \".[sweep]\"` in drape's source folder (or `pip install {' '.join(DEPENDENCIES)}`).")
 
 
 # --------------------------------------------------------------------------------------------
@@ -441,9 +472,11 @@ def run_sweep(spec_or_path, out_dir, workers=None, scheduler_address=None, progr
     retry_failed: runs recorded as failed are run again (otherwise a restart skips them).
     on_result: called as on_result(record, client) after each finished run (client side).
 
-    Validation (SweepSpecError) happens before anything is written. Runs whose folder is
-    complete are skipped; the column ``ran_now`` tells which runs this call executed.
+    The check of DEPENDENCIES (MissingDependencyError) and validation (SweepSpecError) happen
+    before anything is written. Runs whose folder is complete are skipped; the column ``ran_now``
+    tells which runs this call executed.
     """
+    check_dependencies()
     t0 = time.perf_counter()
     sweep = load_spec(spec_or_path)
     sweep.validate_runs()
@@ -576,7 +609,7 @@ def main(argv=None):
     try:
         table = run_sweep(args.spec, args.out, workers=args.workers, scheduler_address=args.scheduler,
                           progress=not args.no_progress, retry_failed=args.retry_failed)
-    except SweepSpecError as error:
+    except (SweepSpecError, MissingDependencyError) as error:
         print(f"drape-sweep: {error}", file=sys.stderr)
         return 2
     rows = table.to_pylist()

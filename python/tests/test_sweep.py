@@ -8,7 +8,10 @@ import json
 import os
 import pathlib
 import signal
+import subprocess
+import sys
 import time
+import tomllib
 
 import pytest
 
@@ -17,6 +20,7 @@ pytest.importorskip("pyarrow")
 pytest.importorskip("tqdm")
 
 import pyarrow.parquet as pq  # noqa: E402
+from conftest import REPO  # noqa: E402
 
 from drape import sweep as ds  # noqa: E402
 
@@ -256,3 +260,40 @@ def test_frames(scene, tmp_path, client):
     frames = sorted(p.name for p in (out / "runs" / row["run_id"] / "frames").iterdir())
     assert frames == ["frame_00000.png", "frame_00001.png", "frame_00002.png"]
     assert not (out / "runs" / row["run_id"] / "final.state").exists()
+
+
+# drape-sweep's entry point (pyproject.toml's [project.scripts]) in a Python where `hidden`
+# cannot be imported, as after a `pip install .` without the extra `sweep`.
+WITHOUT_PACKAGES = """
+import sys
+
+class Uninstalled:
+    hidden = set(sys.argv.pop(1).split(","))
+
+    def find_spec(self, name, path=None, target=None):
+        if name.split(".")[0] in self.hidden:
+            raise ModuleNotFoundError(f"No module named {name!r}", name=name)
+        return None
+
+sys.meta_path.insert(0, Uninstalled())
+from drape.sweep import main
+sys.exit(main())
+"""
+
+
+def test_missing_optional_packages_are_named_before_anything_is_created(scene, tmp_path):
+    spec_file = tmp_path / "spec.toml"
+    spec_file.write_text(f'scene = "{scene.name}"\nseconds = 0.1\n[grid]\nbend-ks = [100.0]\n')
+    out = tmp_path / "out"
+    result = subprocess.run(
+        [sys.executable, "-c", WITHOUT_PACKAGES, "distributed,pyarrow", str(spec_file), "--out", str(out),
+         "--no-progress"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 2, result.stderr
+    assert "Traceback" not in result.stderr, result.stderr
+    assert "missing: distributed, pyarrow." in result.stderr, result.stderr
+    assert 'pip install ".[sweep]"' in result.stderr
+    assert not out.exists()
+    # The packages checked are the extra's.
+    with open(REPO / "pyproject.toml", "rb") as f:
+        extra = tomllib.load(f)["project"]["optional-dependencies"]["sweep"]
+    assert set(ds.DEPENDENCIES) == set(extra)

@@ -1,4 +1,6 @@
-// Scene files (drape::scene_file, as drape-render reads them) and rendering to PNG with drape-render's offscreen renderer (drape::viewer).
+// The rendering bindings: drape-render's offscreen renderer (drape::viewer, OSMesa) drawing
+// cloths and their colliders to numpy images and PNG files, and SceneFile.renderer. Compiled when
+// drape::viewer is built (python/CMakeLists.txt); rendering_unavailable.cpp otherwise.
 
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/optional.h>
@@ -18,47 +20,14 @@
 #include "drape/viewer/collider_mesh.hpp"
 #include "drape/viewer/offscreen_context.hpp"
 #include "drape/viewer/png.hpp"
-#include "drape/scene_file/build_scene.hpp"
-#include "drape/scene_file/command_line.hpp"
+#include "files.hpp"
+#include "helpers.hpp"
 
 namespace drape::python {
 
 using namespace nb::literals;
 
 namespace {
-
-// ---- scene files --------------------------------------------------------------------------------
-
-/// A parsed and validated scene file with drape-render's flags applied, and the scene drape-render
-/// would build from it.
-struct SceneFile {
-  std::shared_ptr<const drape::scene_file::Settings> settings;
-  drape::scene_file::PreparedScene prepared;
-
-  /// Frames of an offline run (drape-render's count: --frames, or enough to cover --duration).
-  int frame_count() const {
-    const drape::scene_file::TimeLine& t = settings->time;
-    return t.duration_given ? std::max(1, static_cast<int>(std::ceil(t.duration / t.frame_time - 1e-9)) + 1) : t.frames;
-  }
-};
-
-SceneFile load_scene(const std::string& path, const std::vector<std::string>& flags) {
-  auto settings = std::make_shared<const drape::scene_file::Settings>(drape::scene_file::read_settings(path, flags));
-  SceneFile file;
-  file.prepared = drape::scene_file::prepare_scene(*settings);
-  file.settings = std::move(settings);
-  return file;
-}
-
-/// The library's spec of a scene-file cloth as Python's ClothSpec: the air's force terms are
-/// the air again (drape-render builds them from the same settings).
-ClothSpecWithAir python_spec(const drape::ClothSpecd& spec, const drape::AirSettings& air) {
-  ClothSpecWithAir out;
-  static_cast<drape::ClothSpecd&>(out) = spec;
-  out.force_terms.clear();
-  out.air = air;
-  return out;
-}
 
 // ---- rendering ----------------------------------------------------------------------------------
 
@@ -267,69 +236,19 @@ std::vector<Renderer::Source> scene_sources(PyClothScene& scene) {
 
 }  // namespace
 
-void bind_scene_file_and_renderer(nb::module_& m) {
-  nb::class_<SceneFile>(m, "SceneFile",
-                        "A drape-render scene file (TOML; docs/viewer.md), parsed and checked by drape-render's own "
-                        "code, and the scene it describes.")
-      .def_prop_ro(
-          "path", [](const SceneFile& f) { return f.settings->scene; }, "The file.")
-      .def_prop_ro(
-          "integrator", [](const SceneFile& f) { return std::string(drape::to_string(f.settings->integrator)); },
-          "'rk2', 'implicit' or 'symplectic'.")
-      .def_prop_ro(
-          "options", [](const SceneFile& f) { return f.settings->stepping; },
-          "ImplicitOptions (dt and threads for every integrator).")
-      .def_prop_ro(
-          "collisions", [](const SceneFile& f) { return f.settings->cloth.self_collision; },
-          "SelfCollisionSettings of the scene (self-collision keys).")
-      .def_prop_ro(
-          "cloth_specs",
-          [](const SceneFile& f) {
-            std::vector<ClothSpecWithAir> specs;
-            for (const drape::ClothSpecd& spec : f.prepared.specs) specs.push_back(python_spec(spec, f.settings->air));
-            return specs;
-          },
-          "Every cloth's ClothSpec: the first (with the floor collider if the file asks for it), then one per "
-          "[[cloths]] table.")
-      .def_prop_ro(
-          "start", [](const SceneFile& f) { return SharedState(f.prepared.start); },
-          "The first cloth's start State (its initial state, or the file's load-state).")
-      .def_prop_ro(
-          "frame_time", [](const SceneFile& f) { return f.settings->time.frame_time; }, "s between frames.")
-      .def_prop_ro("frame_count", &SceneFile::frame_count, "Frames of an offline run, the first at the start.")
-      .def_prop_ro(
-          "seconds", [](const SceneFile& f) { return double(f.frame_count() - 1) * f.settings->time.frame_time; },
-          "Simulated seconds of an offline run: (frame_count - 1) * frame_time.")
-      .def_prop_ro(
-          "realtime", [](const SceneFile& f) { return f.settings->time.realtime; },
-          "True if drape-render would pace it against the wall clock.")
-      .def_prop_ro(
-          "width", [](const SceneFile& f) { return f.settings->output.width; }, "Image width (pixels).")
-      .def_prop_ro(
-          "height", [](const SceneFile& f) { return f.settings->output.height; }, "Image height (pixels).")
-      .def_prop_ro(
-          "floor_height", [](const SceneFile& f) { return f.prepared.floor_y; }, "m: y of the floor.")
-      .def(
-          "make_scene",
-          [](const SceneFile& f) { return new PyClothScene(f.settings, f.prepared.specs, f.prepared.start); },
-          "A new ClothScene of the file's cloths, integrator and collisions, starting where drape-render "
-          "starts; its first cloth follows the file's [[moving-pins]] tables.")
-      .def(
-          "renderer",
-          [](const SceneFile& f, nb::handle_t<PyClothScene> scene) {
-            const drape::scene_file::Output& o = f.settings->output;
-            RenderOptions options{o.width,     o.height,          o.samples,
-                                  o.azimuth,   o.elevation,       o.camera == drape::scene_file::CameraMode::Follow,
-                                  !o.no_floor, f.prepared.floor_y};
-            return new Renderer(scene_sources(nb::cast<PyClothScene&>(scene)), nb::borrow(scene), options,
-                                f.prepared.framed);
-          },
-          "scene"_a,
-          "A Renderer of `scene` with the file's image size, camera and floor, framed as drape-render frames.");
-
-  m.def("load_scene", &load_scene, "path"_a, "flags"_a = std::vector<std::string>(),
-        "Reads a drape-render scene file; `flags` are drape-render flags applied over it (e.g. ['--threads', '1']). "
-        "Raises SceneFileError naming the key or flag, or InvalidParameter.");
+void bind_rendering(nb::module_& m) {
+  // A method of SceneFile (bind_scene_files()), after its others.
+  nb::cpp_function_def(
+      [](const SceneFile& f, nb::handle_t<PyClothScene> scene) {
+        const drape::scene_file::Output& o = f.settings->output;
+        RenderOptions options{o.width,     o.height,          o.samples,
+                              o.azimuth,   o.elevation,       o.camera == drape::scene_file::CameraMode::Follow,
+                              !o.no_floor, f.prepared.floor_y};
+        return new Renderer(scene_sources(nb::cast<PyClothScene&>(scene)), nb::borrow(scene), options,
+                            f.prepared.framed);
+      },
+      nb::scope(nb::type<SceneFile>()), nb::name("renderer"), nb::is_method(), "scene"_a,
+      "A Renderer of `scene` with the file's image size, camera and floor, framed as drape-render frames.");
 
   nb::class_<Renderer>(m, "Renderer",
                        "drape-render's offscreen renderer (OSMesa, no display): cloths, their colliders and a floor, "
