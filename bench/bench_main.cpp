@@ -10,7 +10,7 @@
 
 #include "bench_common.hpp"
 #include "drape/config.hpp"
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 
 namespace drape_bench {

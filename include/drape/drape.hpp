@@ -9,14 +9,17 @@
 #include "drape/config.hpp"
 #include "drape/fwd.hpp"
 
-// core: types, checks, threads, the cloth model
+// platform: threads, the run-time instruction set, exact vector square roots, a portable sine
+#include "drape/platform/team.hpp"
+#include "drape/platform/sine.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/vector_sqrt.hpp"
+
+// core: types, checks, option names, the cloth model
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/core/enum_names.hpp"
-#include "drape/core/team.hpp"
-#include "drape/core/sine.hpp"
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/vector_sqrt.hpp"
+#include "drape/core/instruction_set_choice.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/spring_set.hpp"
 #include "drape/core/pins.hpp"

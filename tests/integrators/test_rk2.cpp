@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "test_common.hpp"

@@ -4,7 +4,7 @@
 #include <array>
 #include <cstring>
 
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/integrators/make_integrator.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/symplectic_euler.hpp"

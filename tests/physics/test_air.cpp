@@ -8,7 +8,7 @@
 #include <cmath>
 #include <memory>
 
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"

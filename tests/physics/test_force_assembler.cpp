@@ -5,7 +5,7 @@
 #include <set>
 #include <tuple>
 
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/physics/spring_kernel.hpp"

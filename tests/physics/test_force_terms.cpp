@@ -10,7 +10,7 @@
 
 #include <Eigen/Cholesky>
 
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"

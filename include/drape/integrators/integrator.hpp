@@ -14,7 +14,7 @@
 #include "drape/core/pin_set.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/core/state.hpp"
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/integrators/step_status.hpp"
 #include "drape/physics/contact_handler.hpp"

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "drape/core/cloth.hpp"
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/integrators/integrator.hpp"
 #include "drape/physics/force_assembler.hpp"
 

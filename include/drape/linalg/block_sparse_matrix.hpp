@@ -17,8 +17,8 @@
 #include <Eigen/SparseCore>
 
 #include "drape/config.hpp"
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/team.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/core/types.hpp"
 #include "drape/linalg/block3.hpp"
 #include "drape/linalg/row_avx2.hpp"

@@ -4,7 +4,7 @@
 /// `__m128` for float) and back, without touching the value after them (the next row's, or past
 /// the end of the vector).
 
-#include "drape/core/instruction_set.hpp"
+#include "drape/platform/instruction_set.hpp"
 
 #if DRAPE_AVX2_DISPATCH
 #include <immintrin.h>

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "drape/core/force_term.hpp"
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/physics/wind_field.hpp"
 

@@ -30,11 +30,11 @@
 
 #include "drape/config.hpp"
 #include "drape/core/cloth.hpp"
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/team.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/physics/spring_families.hpp"
 #include "drape/physics/spring_kernel.hpp"
-#include "drape/core/vector_sqrt.hpp"
+#include "drape/platform/vector_sqrt.hpp"
 
 namespace drape {
 

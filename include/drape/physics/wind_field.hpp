@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "drape/core/sine.hpp"
+#include "drape/platform/sine.hpp"
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
 

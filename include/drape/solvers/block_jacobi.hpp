@@ -13,8 +13,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/team.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/linalg/block3.hpp"
 #include "drape/linalg/row_avx2.hpp"
 #include "drape/solvers/preconditioner.hpp"

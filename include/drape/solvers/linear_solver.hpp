@@ -12,7 +12,7 @@
 
 #include <string>
 
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/linalg/linear_system.hpp"
 #include "drape/solvers/preconditioner.hpp"

@@ -32,7 +32,7 @@
 #include <vector>
 
 #include "drape/config.hpp"
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/solvers/block_jacobi.hpp"

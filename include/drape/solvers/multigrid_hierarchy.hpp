@@ -29,8 +29,8 @@
 
 #include <Eigen/SparseCore>
 
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/team.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/linalg/block_sparse_matrix.hpp"
 #include "drape/linalg/grid_layout.hpp"
