@@ -16,10 +16,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "drape/core/cloth.hpp"
 #include "drape/core/instruction_set_choice.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/step_status.hpp"
+#include "drape/model/cloth.hpp"
 
 namespace drape_bench {
 

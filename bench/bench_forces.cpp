@@ -6,9 +6,9 @@
 
 #include "baseline.hpp"
 #include "bench_common.hpp"
-#include "drape/platform/instruction_set.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/physics/force_assembler.hpp"
+#include "drape/platform/instruction_set.hpp"
 
 namespace drape_bench {
 namespace {

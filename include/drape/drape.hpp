@@ -15,7 +15,7 @@
 #include "drape/platform/instruction_set.hpp"
 #include "drape/platform/vector_sqrt.hpp"
 
-// core: types, checks, option names, the cloth model
+// core: types, checks, option names, the parts of the cloth model
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/core/enum_names.hpp"
@@ -27,10 +27,7 @@
 #include "drape/core/pin_set.hpp"
 #include "drape/core/state.hpp"
 #include "drape/core/force_term.hpp"
-#include "drape/core/collider.hpp"
 #include "drape/core/placement.hpp"
-#include "drape/core/self_collision_settings.hpp"
-#include "drape/core/cloth.hpp"
 
 // linalg: 3x3 block storage and the linear system solvers are handed
 #include "drape/linalg/block3.hpp"
@@ -48,6 +45,15 @@
 #include "drape/collision/mesh_topology.hpp"
 #include "drape/collision/bounding_volume_hierarchy.hpp"
 
+// contact: colliders and self-collision, their settings and the handlers that resolve them
+#include "drape/contact/collider.hpp"
+#include "drape/contact/self_collision_settings.hpp"
+#include "drape/contact/contact_handler.hpp"
+#include "drape/contact/self_collision.hpp"
+
+// model: the cloth composed of core's parts and contact's settings
+#include "drape/model/cloth.hpp"
+
 // physics: forces, their derivatives, the system assembly, diagnostics
 #include "drape/physics/spring_kernel.hpp"
 #include "drape/physics/spring_jacobian.hpp"
@@ -58,8 +64,6 @@
 #include "drape/physics/air_drag.hpp"
 #include "drape/physics/aerodynamic_force.hpp"
 #include "drape/physics/air.hpp"
-#include "drape/physics/contact_handler.hpp"
-#include "drape/physics/self_collision.hpp"
 #include "drape/physics/diagnostics.hpp"
 
 // solvers: linear solvers and preconditioners (know nothing of cloth)

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
 #include "drape/core/state.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/scene/cloth_scene.hpp"
 #include "scene_setup.hpp"

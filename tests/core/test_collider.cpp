@@ -10,7 +10,7 @@
 
 #include <Eigen/Geometry>
 
-#include "drape/core/collider.hpp"
+#include "drape/contact/collider.hpp"
 
 using namespace drape;
 

@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "drape/core/instruction_set_choice.hpp"
-#include "drape/platform/vector_sqrt.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
+#include "drape/platform/vector_sqrt.hpp"
 #include "test_common.hpp"
 
 using namespace drape;

@@ -2,9 +2,9 @@
 
 #include <cstring>
 
-#include "drape/platform/team.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/platform/team.hpp"
 #include "test_common.hpp"
 
 using namespace drape;

@@ -4,11 +4,11 @@
 #include <array>
 #include <cstring>
 
-#include "drape/platform/team.hpp"
 #include "drape/integrators/make_integrator.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/platform/team.hpp"
 #include "test_common.hpp"
 
 using namespace drape;

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "drape/core/instruction_set_choice.hpp"
-#include "drape/platform/team.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/block_jacobi.hpp"
 #include "drape/solvers/multigrid.hpp"
 #include "test_common.hpp"

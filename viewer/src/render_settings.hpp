@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/core/pin_path.hpp"
 #include "drape/fwd.hpp"
+#include "drape/model/cloth.hpp"
 // Every program that links drape_scene_file (drape-render, the Python module, the fuzzers) uses
 // drape's compiled instances (drape_instances) instead of compiling them in each source.
 #include "drape/instances.hpp"

@@ -8,9 +8,9 @@
 #include <optional>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
 #include "drape/core/pin_set.hpp"
 #include "drape/fwd.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/viewer/camera.hpp"
 #include "render_settings.hpp"
 

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "drape/platform/team.hpp"
 #include "drape/core/types.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 

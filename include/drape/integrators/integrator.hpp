@@ -10,15 +10,15 @@
 #include <cstdint>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
-#include "drape/core/pin_set.hpp"
+#include "drape/contact/contact_handler.hpp"
+#include "drape/contact/self_collision.hpp"
 #include "drape/core/enum_names.hpp"
+#include "drape/core/pin_set.hpp"
 #include "drape/core/state.hpp"
-#include "drape/platform/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/integrators/step_status.hpp"
-#include "drape/physics/contact_handler.hpp"
-#include "drape/physics/self_collision.hpp"
+#include "drape/model/cloth.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 
@@ -111,8 +111,9 @@ class Integrator {
       : m_cloth(&cloth),
         m_dt((options.validate(), Scalar(options.dt))),
         m_pins(cloth.pins()),
-        m_contacts(cloth),
-        m_self_collisions(cloth) {
+        m_contacts(cloth.colliders(), cloth.contact_thickness(), cloth.grid().masses()),
+        m_self_collisions(cloth.self_collision(), cloth.contact_thickness(), cloth.grid().triangles(),
+                          cloth.grid().masses(), cloth.start_positions()) {
     set_dt(m_dt);  // the conversion to Scalar must not make it 0 or infinite
   }
 

@@ -5,7 +5,7 @@
 ///     q = (x, v), \quad F(q) = (v,\; M^{-1} f(x, v)). \f]
 /// Pinned nodes are set on their paths after each stage (the midpoint's position at t + dt/2, the
 /// end's at t + dt, the velocity (x(t + dt) - x) / dt): a holding pin never moves.
-/// Contacts with colliders are resolved on the step's result (physics/contact_handler.hpp).
+/// Contacts with colliders are resolved on the step's result (contact/contact_handler.hpp).
 /// Conditionally stable: see drape's parameters.md for the largest stable dt.
 ///
 /// One step is one parallel region with five barriers: q copied by component, spring pass at q,
@@ -18,10 +18,10 @@
 #include <atomic>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
-#include "drape/platform/team.hpp"
 #include "drape/integrators/integrator.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/force_assembler.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 

@@ -7,7 +7,7 @@
 /// oscillates around its true value instead of drifting (its stable dt is also larger than the
 /// midpoint rule's for springs with little damping: docs/parameters.md). RK2 stays the default.
 /// Pinned nodes end the step on their path with velocity (x(t + dt) - x) / dt, as in RK2; contacts
-/// with colliders are resolved on the step's result (physics/contact_handler.hpp).
+/// with colliders are resolved on the step's result (contact/contact_handler.hpp).
 ///
 /// One step is one parallel region with two barriers: x and v copied by component, the spring pass,
 /// then the node pass fused with the update and the finiteness check (force_assembler.hpp).
@@ -17,10 +17,10 @@
 #include <atomic>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
-#include "drape/platform/team.hpp"
 #include "drape/integrators/integrator.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/force_assembler.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 

@@ -38,11 +38,11 @@
 
 #include <Eigen/Core>
 
-#include "drape/platform/instruction_set.hpp"
-#include "drape/platform/team.hpp"
 #include "drape/core/types.hpp"
 #include "drape/linalg/block3.hpp"
 #include "drape/linalg/row_avx2.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 
 #if DRAPE_AVX2_DISPATCH
 #include <immintrin.h>

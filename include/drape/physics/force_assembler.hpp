@@ -29,11 +29,11 @@
 #include <Eigen/Core>
 
 #include "drape/config.hpp"
-#include "drape/core/cloth.hpp"
-#include "drape/platform/instruction_set.hpp"
-#include "drape/platform/team.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/spring_families.hpp"
 #include "drape/physics/spring_kernel.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/platform/vector_sqrt.hpp"
 
 namespace drape {

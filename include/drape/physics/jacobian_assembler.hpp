@@ -35,13 +35,13 @@
 #include <vector>
 
 #include "drape/config.hpp"
-#include "drape/core/cloth.hpp"
 #include "drape/core/enum_names.hpp"
-#include "drape/platform/instruction_set.hpp"
-#include "drape/platform/team.hpp"
 #include "drape/linalg/block3.hpp"
 #include "drape/linalg/linear_system.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/spring_jacobian.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 
 #if DRAPE_AVX2_DISPATCH
 #include <immintrin.h>

@@ -13,10 +13,10 @@
 #include <type_traits>
 #include <vector>
 
-#include "drape/platform/instruction_set.hpp"
-#include "drape/platform/team.hpp"
 #include "drape/linalg/block3.hpp"
 #include "drape/linalg/row_avx2.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/preconditioner.hpp"
 
 namespace drape {

@@ -29,12 +29,12 @@
 
 #include <Eigen/SparseCore>
 
-#include "drape/platform/instruction_set.hpp"
-#include "drape/platform/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/linalg/block_sparse_matrix.hpp"
 #include "drape/linalg/grid_layout.hpp"
 #include "drape/linalg/row_avx2.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 
 #if DRAPE_AVX2_DISPATCH
 #include <immintrin.h>
