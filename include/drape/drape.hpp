@@ -31,7 +31,6 @@
 
 // linalg: 3x3 block storage and the linear system solvers are handed
 #include "drape/linalg/block3.hpp"
-#include "drape/linalg/row_avx2.hpp"
 #include "drape/linalg/block_sparse_matrix.hpp"
 #include "drape/linalg/edge_operator.hpp"
 #include "drape/linalg/grid_layout.hpp"
