@@ -144,10 +144,9 @@ class EdgeOperator {
   template <bool Symmetric>
   DRAPE_INLINE_LOOP void add_edge_range(const Scalar* x, Scalar* y, int begin, int end) const;
 #if DRAPE_AVX2_DISPATCH
-  /// add_edge_products for symmetric double blocks with AVX2: four edges of a colour per step.
-  __attribute__((target("avx2"))) void add_symmetric_edge_products_avx2(const double* x, double* y) const;
-  /// The same for float blocks: the four edges of a group in 128-bit vectors, the same steps.
-  __attribute__((target("avx2"))) void add_symmetric_edge_products_avx2(const float* x, float* y) const;
+  /// add_edge_products for symmetric blocks with AVX2, Scalar double (four edges of a colour per
+  /// step in 256-bit vectors) or float (in 128-bit ones, the same steps).
+  __attribute__((target("avx2"))) void add_symmetric_edge_products_avx2(const Scalar* x, Scalar* y) const;
 #endif
   /// If every B_r is s_r I, writes m_r + s_r to m_row_diagonal and returns true.
   bool fold_isotropic_row_blocks();
@@ -285,13 +284,16 @@ DRAPE_INLINE_LOOP void EdgeOperator<Scalar>::add_edge_range(const Scalar* x, Sca
 
 #if DRAPE_AVX2_DISPATCH
 // The vector version does the scalar one's operations in the same order (no fused multiply-add),
-// so both give the same bits.
+// so both give the same bits. The loads and stores of each group shape are edge_operator_avx2.hpp's,
+// for the lanes of each scalar type; the arithmetic is row_avx2.hpp's.
 template <class Scalar>
-__attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_products_avx2(const double* x,
-                                                                                            double* y) const {
+__attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_products_avx2(const Scalar* x,
+                                                                                            Scalar* y) const {
+  using Lanes = typename detail::Lanes4Avx2<Scalar>::type;  // the four edges of a group
+  using detail::add_avx2;
+  using detail::load4_avx2;
+  using detail::mul_avx2;
   const int* er = m_edge_rows.data();
-  using detail::load_row_avx2;
-  using detail::update_row_avx2;
   const GroupShape* shapes = m_group_shape.data();
   const int colours = static_cast<int>(m_colour_begin.size()) - 1;
   for (int k = 0; k < colours; ++k) {
@@ -305,120 +307,32 @@ __attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_pr
       const int* rows = er + 2 * group * g;
       const GroupShape shape = shapes[g];
       // d = x_a - x_b of the four edges, one vector per component.
-      __m256d dx, dy, dz;
+      Lanes dx, dy, dz;
       if (shape == GroupShape::Consecutive) {
         detail::load_consecutive_differences_avx2(x, rows[0], rows[1], dx, dy, dz);
       } else if (shape == GroupShape::AdjacentPairs) {
         detail::load_adjacent_pair_differences_avx2(x, rows[0], dx, dy, dz);
       } else if (shape == GroupShape::TwoApartPairs) {
         detail::load_two_apart_differences_avx2(x, rows[0], dx, dy, dz);
-      } else {  // gathered row by row, then transposed
-        detail::transpose_differences_avx2(_mm256_sub_pd(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1])),
-                                           _mm256_sub_pd(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3])),
-                                           _mm256_sub_pd(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5])),
-                                           _mm256_sub_pd(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7])), dx,
-                                           dy, dz);
-      }
-      // Unaligned loads: a std::vector is only 16-byte aligned (an aligned load would fault).
-      const double* c = m_values.data() + std::size_t(6 * group) * std::size_t(g);  // value_index(4 g, 0, 6)
-      const __m256d c0 = _mm256_loadu_pd(c), c1 = _mm256_loadu_pd(c + 4), c2 = _mm256_loadu_pd(c + 8);
-      const __m256d c3 = _mm256_loadu_pd(c + 12), c4 = _mm256_loadu_pd(c + 16), c5 = _mm256_loadu_pd(c + 20);
-      const __m256d tx =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c0, dx), _mm256_mul_pd(c1, dy)), _mm256_mul_pd(c3, dz));
-      const __m256d ty =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c1, dx), _mm256_mul_pd(c2, dy)), _mm256_mul_pd(c4, dz));
-      const __m256d tz =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c3, dx), _mm256_mul_pd(c4, dy)), _mm256_mul_pd(c5, dz));
-      if (shape == GroupShape::Consecutive) {
-        detail::update_consecutive_rows_avx2(y, rows[0], rows[1], tx, ty, tz);
-        continue;
-      }
-      if (shape == GroupShape::AdjacentPairs) {
-        detail::update_adjacent_pairs_avx2(y, rows[0], tx, ty, tz);
-        continue;
-      }
-      if (shape == GroupShape::TwoApartPairs) {
-        detail::update_two_apart_pairs_avx2(y, rows[0], tx, ty, tz);
-        continue;
-      }
-      // Back to (tx, ty) pairs and tz per edge.
-      const __m256d txy02 = _mm256_unpacklo_pd(tx, ty), txy13 = _mm256_unpackhi_pd(tx, ty);
-      const __m128d tz01 = _mm256_castpd256_pd128(tz), tz23 = _mm256_extractf128_pd(tz, 1);
-      const __m128d pair[4] = {_mm256_castpd256_pd128(txy02), _mm256_castpd256_pd128(txy13),
-                               _mm256_extractf128_pd(txy02, 1), _mm256_extractf128_pd(txy13, 1)};
-      const __m128d z[4] = {tz01, _mm_unpackhi_pd(tz01, tz01), tz23, _mm_unpackhi_pd(tz23, tz23)};
-      for (int i = 0; i < group; ++i) {
-        update_row_avx2<true>(y, rows[2 * i], pair[i], z[i]);
-        update_row_avx2<false>(y, rows[2 * i + 1], pair[i], z[i]);
-      }
-    }
-    add_edge_range<true>(x, y, tail_begin, end);
-    team_barrier();
-  }
-}
-
-// As the double version: the scalar loop's operations in its order, so the same bits.
-template <class Scalar>
-__attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_products_avx2(const float* x,
-                                                                                            float* y) const {
-  const int* er = m_edge_rows.data();
-  using detail::load_row_avx2;
-  using detail::update_row_avx2;
-  const GroupShape* shapes = m_group_shape.data();
-  const int colours = static_cast<int>(m_colour_begin.size()) - 1;
-  for (int k = 0; k < colours; ++k) {
-    const auto share = even_share(m_colour_begin[k + 1] - m_colour_begin[k], team_rank(), team_size());
-    const int begin = m_colour_begin[k] + int(share.first), end = m_colour_begin[k] + int(share.second);
-    // Whole groups [first_group, end_group), the edges before and after them one by one.
-    const int first_group = (begin + group - 1) / group, end_group = end / group;
-    const int head_end = std::min(end, first_group * group), tail_begin = std::max(head_end, end_group * group);
-    add_edge_range<true>(x, y, begin, head_end);
-    for (int g = first_group; g < end_group; ++g) {
-      const int* rows = er + 2 * group * g;
-      const GroupShape shape = shapes[g];
-      // d = x_a - x_b of the four edges, one vector per component.
-      __m128 dx, dy, dz;
-      if (shape == GroupShape::Consecutive) {
-        detail::load_consecutive_differences_avx2(x, rows[0], rows[1], dx, dy, dz);
-      } else if (shape == GroupShape::AdjacentPairs) {
-        detail::load_adjacent_pair_differences_avx2(x, rows[0], dx, dy, dz);
-      } else if (shape == GroupShape::TwoApartPairs) {
-        detail::load_two_apart_differences_avx2(x, rows[0], dx, dy, dz);
-      } else {  // gathered row by row, then transposed
-        detail::transpose_differences_avx2(_mm_sub_ps(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1])),
-                                           _mm_sub_ps(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3])),
-                                           _mm_sub_ps(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5])),
-                                           _mm_sub_ps(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7])), dx, dy,
-                                           dz);
+      } else {
+        detail::load_gathered_differences_avx2(x, rows, dx, dy, dz);
       }
       // The group's 24 values, value k of the four edges in the k-th vector (value_index(4 g, k, 6)).
-      const float* c = m_values.data() + std::size_t(6 * group) * std::size_t(g);
-      const __m128 c0 = _mm_loadu_ps(c), c1 = _mm_loadu_ps(c + 4), c2 = _mm_loadu_ps(c + 8);
-      const __m128 c3 = _mm_loadu_ps(c + 12), c4 = _mm_loadu_ps(c + 16), c5 = _mm_loadu_ps(c + 20);
-      const __m128 tx = _mm_add_ps(_mm_add_ps(_mm_mul_ps(c0, dx), _mm_mul_ps(c1, dy)), _mm_mul_ps(c3, dz));
-      const __m128 ty = _mm_add_ps(_mm_add_ps(_mm_mul_ps(c1, dx), _mm_mul_ps(c2, dy)), _mm_mul_ps(c4, dz));
-      const __m128 tz = _mm_add_ps(_mm_add_ps(_mm_mul_ps(c3, dx), _mm_mul_ps(c4, dy)), _mm_mul_ps(c5, dz));
+      // Unaligned loads: a std::vector is only 16-byte aligned (an aligned load would fault).
+      const Scalar* c = m_values.data() + std::size_t(6 * group) * std::size_t(g);
+      const Lanes c0 = load4_avx2(c), c1 = load4_avx2(c + 4), c2 = load4_avx2(c + 8);
+      const Lanes c3 = load4_avx2(c + 12), c4 = load4_avx2(c + 16), c5 = load4_avx2(c + 20);
+      const Lanes tx = add_avx2(add_avx2(mul_avx2(c0, dx), mul_avx2(c1, dy)), mul_avx2(c3, dz));
+      const Lanes ty = add_avx2(add_avx2(mul_avx2(c1, dx), mul_avx2(c2, dy)), mul_avx2(c4, dz));
+      const Lanes tz = add_avx2(add_avx2(mul_avx2(c3, dx), mul_avx2(c4, dy)), mul_avx2(c5, dz));
       if (shape == GroupShape::Consecutive) {
         detail::update_consecutive_rows_avx2(y, rows[0], rows[1], tx, ty, tz);
-        continue;
-      }
-      if (shape == GroupShape::AdjacentPairs) {
+      } else if (shape == GroupShape::AdjacentPairs) {
         detail::update_adjacent_pairs_avx2(y, rows[0], tx, ty, tz);
-        continue;
-      }
-      if (shape == GroupShape::TwoApartPairs) {
+      } else if (shape == GroupShape::TwoApartPairs) {
         detail::update_two_apart_pairs_avx2(y, rows[0], tx, ty, tz);
-        continue;
-      }
-      // Back to (tx ty tz 0) per edge: a 4 x 4 transpose with a zero fourth row.
-      const __m128 zero = _mm_setzero_ps();
-      const __m128 xy01 = _mm_unpacklo_ps(tx, ty), xy23 = _mm_unpackhi_ps(tx, ty);  // (tx0 ty0 tx1 ty1)
-      const __m128 z01 = _mm_unpacklo_ps(tz, zero), z23 = _mm_unpackhi_ps(tz, zero);  // (tz0 0 tz1 0)
-      const __m128 t[4] = {_mm_movelh_ps(xy01, z01), _mm_movehl_ps(z01, xy01), _mm_movelh_ps(xy23, z23),
-                           _mm_movehl_ps(z23, xy23)};
-      for (int i = 0; i < group; ++i) {
-        update_row_avx2<true>(y, rows[2 * i], t[i]);
-        update_row_avx2<false>(y, rows[2 * i + 1], t[i]);
+      } else {
+        detail::update_gathered_rows_avx2(y, rows, tx, ty, tz);
       }
     }
     add_edge_range<true>(x, y, tail_begin, end);

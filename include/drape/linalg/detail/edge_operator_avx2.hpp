@@ -1,8 +1,10 @@
 #pragma once
 /// \file edge_operator_avx2.hpp
-/// The loads and stores of EdgeOperator's AVX2 product (edge_operator.hpp), for double (four edges
-/// in 256-bit vectors) and float (in 128-bit ones): x_a - x_b of a group of four edges as one
-/// vector per component, and the update of their rows, for each GroupShape.
+/// The loads and stores of EdgeOperator's AVX2 product (edge_operator.hpp), overloaded for double
+/// (four edges in 256-bit vectors) and float (in 128-bit ones): x_a - x_b of a group of four edges
+/// as one vector per component, and the update of their rows, for each GroupShape. The product's
+/// loop over colours and groups (EdgeOperator::add_symmetric_edge_products_avx2) is written once
+/// over both.
 
 #include "drape/linalg/detail/row_avx2.hpp"
 #include "drape/platform/instruction_set.hpp"
@@ -12,10 +14,9 @@
 
 namespace drape::detail {
 
-/// Row r of x as (x0, x1, x2, 0); zero for an end outside the system (r < 0).
+/// Row r of x as (x0, x1, x2, 0) (row_avx2.hpp); zero for an end outside the system (r < 0).
 __attribute__((target("avx2"), always_inline)) inline __m256d load_row_avx2(const double* x, int r) {
-  return r >= 0 ? _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(x + 3 * r)), _mm_load_sd(x + 3 * r + 2), 1)
-                : _mm256_setzero_pd();
+  return r >= 0 ? load_row3_avx2(x + 3 * r) : _mm256_setzero_pd();
 }
 /// y_r += (t0, t1), t2 (`Add`) or y_r -= them; nothing for r < 0.
 template <bool Add>
@@ -139,6 +140,31 @@ __attribute__((target("avx2"), always_inline)) inline void update_two_apart_pair
   _mm_storeu_pd(p + 16, _mm_add_pd(_mm_loadu_pd(p + 16), fourth));
   _mm256_storeu_pd(p + 18, _mm256_sub_pd(_mm256_loadu_pd(p + 18), third));
   _mm_storeu_pd(p + 22, _mm_sub_pd(_mm_loadu_pd(p + 22), fourth));
+}
+
+/// x_a - x_b of a Gathered group (edge i joins rows[2i] and rows[2i + 1]): row by row, then
+/// transposed.
+__attribute__((target("avx2"), always_inline)) inline void load_gathered_differences_avx2(const double* x,
+                                                                                          const int* rows, __m256d& dx,
+                                                                                          __m256d& dy, __m256d& dz) {
+  transpose_differences_avx2(_mm256_sub_pd(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1])),
+                             _mm256_sub_pd(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3])),
+                             _mm256_sub_pd(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5])),
+                             _mm256_sub_pd(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7])), dx, dy, dz);
+}
+/// y_a += t and y_b -= t for a Gathered group, row by row: back to (tx, ty) pairs and tz per edge.
+__attribute__((target("avx2"), always_inline)) inline void update_gathered_rows_avx2(double* y, const int* rows,
+                                                                                     __m256d tx, __m256d ty,
+                                                                                     __m256d tz) {
+  const __m256d txy02 = _mm256_unpacklo_pd(tx, ty), txy13 = _mm256_unpackhi_pd(tx, ty);
+  const __m128d tz01 = _mm256_castpd256_pd128(tz), tz23 = _mm256_extractf128_pd(tz, 1);
+  const __m128d pair[4] = {_mm256_castpd256_pd128(txy02), _mm256_castpd256_pd128(txy13),
+                           _mm256_extractf128_pd(txy02, 1), _mm256_extractf128_pd(txy13, 1)};
+  const __m128d z[4] = {tz01, _mm_unpackhi_pd(tz01, tz01), tz23, _mm_unpackhi_pd(tz23, tz23)};
+  for (int i = 0; i < 4; ++i) {
+    update_row_avx2<true>(y, rows[2 * i], pair[i], z[i]);
+    update_row_avx2<false>(y, rows[2 * i + 1], pair[i], z[i]);
+  }
 }
 
 // The float twins of the helpers above (overloads by pointer type): four edges of a group in one
@@ -270,6 +296,30 @@ __attribute__((target("avx2"), always_inline)) inline void update_two_apart_pair
   _mm_storeu_ps(p + 18, _mm_sub_ps(_mm_loadu_ps(p + 18), third));
   store_pairs_avx2(p + 4, p + 16, _mm_add_ps(load_pairs_avx2(p + 4, p + 16), tails));
   store_pairs_avx2(p + 10, p + 22, _mm_sub_ps(load_pairs_avx2(p + 10, p + 22), tails));
+}
+
+/// load_gathered_differences_avx2 for float.
+__attribute__((target("avx2"), always_inline)) inline void load_gathered_differences_avx2(const float* x,
+                                                                                          const int* rows, __m128& dx,
+                                                                                          __m128& dy, __m128& dz) {
+  transpose_differences_avx2(_mm_sub_ps(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1])),
+                             _mm_sub_ps(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3])),
+                             _mm_sub_ps(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5])),
+                             _mm_sub_ps(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7])), dx, dy, dz);
+}
+/// update_gathered_rows_avx2 for float: back to (tx ty tz 0) per edge, a 4 x 4 transpose with a
+/// zero fourth row.
+__attribute__((target("avx2"), always_inline)) inline void update_gathered_rows_avx2(float* y, const int* rows,
+                                                                                     __m128 tx, __m128 ty, __m128 tz) {
+  const __m128 zero = _mm_setzero_ps();
+  const __m128 xy01 = _mm_unpacklo_ps(tx, ty), xy23 = _mm_unpackhi_ps(tx, ty);  // (tx0 ty0 tx1 ty1)
+  const __m128 z01 = _mm_unpacklo_ps(tz, zero), z23 = _mm_unpackhi_ps(tz, zero);  // (tz0 0 tz1 0)
+  const __m128 t[4] = {_mm_movelh_ps(xy01, z01), _mm_movehl_ps(z01, xy01), _mm_movelh_ps(xy23, z23),
+                       _mm_movehl_ps(z23, xy23)};
+  for (int i = 0; i < 4; ++i) {
+    update_row_avx2<true>(y, rows[2 * i], t[i]);
+    update_row_avx2<false>(y, rows[2 * i + 1], t[i]);
+  }
 }
 
 }  // namespace drape::detail

@@ -68,30 +68,18 @@ __attribute__((target("avx2"))) inline void galerkin_blocks_avx2(const int* uppe
   }
 }
 
-/// MultigridHierarchy's transfers for double with AVX2, rows [begin, end) of `to`: the weighted sum
-/// of `from`'s rows [index_begin[r], index_begin[r + 1]) of (index_row, index_weight), stored
-/// (`add` false: restriction) or added (prolongation); the baseline's order, no FMA.
+/// MultigridHierarchy's transfers with AVX2, rows [begin, end) of `to`: the weighted sum of
+/// `from`'s rows [index_begin[r], index_begin[r + 1]) of (index_row, index_weight), a row in one
+/// register (row_avx2.hpp), stored (`add` false: restriction) or added (prolongation); the
+/// baseline's order, no FMA.
+template <class Scalar>
 __attribute__((target("avx2"))) inline void transfer_rows_avx2(const int* index_begin, const int* index_row,
-                                                               const double* index_weight, const double* from,
-                                                               double* to, bool add, int begin, int end) {
+                                                               const Scalar* index_weight, const Scalar* from,
+                                                               Scalar* to, bool add, int begin, int end) {
   for (int r = begin; r < end; ++r) {
-    __m256d s = _mm256_setzero_pd();
-    for (int e = index_begin[r]; e < index_begin[r + 1]; ++e) {
-      const __m256d v = load_row3_avx2(from + 3 * index_row[e]);
-      s = _mm256_add_pd(s, _mm256_mul_pd(_mm256_broadcast_sd(index_weight + e), v));
-    }
-    store_row3_avx2(to + 3 * r, s, add);
-  }
-}
-
-/// The float twin: a row's three values in one `__m128`.
-__attribute__((target("avx2"))) inline void transfer_rows_avx2(const int* index_begin, const int* index_row,
-                                                               const float* index_weight, const float* from, float* to,
-                                                               bool add, int begin, int end) {
-  for (int r = begin; r < end; ++r) {
-    __m128 s = _mm_setzero_ps();
+    typename Lanes4Avx2<Scalar>::type s = set4_avx2(Scalar(0));
     for (int e = index_begin[r]; e < index_begin[r + 1]; ++e)
-      s = _mm_add_ps(s, _mm_mul_ps(_mm_broadcast_ss(index_weight + e), load_row3_avx2(from + 3 * index_row[e])));
+      s = add_avx2(s, mul_avx2(broadcast4_avx2(index_weight + e), load_row3_avx2(from + 3 * index_row[e])));
     store_row3_avx2(to + 3 * r, s, add);
   }
 }
