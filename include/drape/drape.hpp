@@ -83,6 +83,7 @@
 // integrators: time stepping
 #include "drape/integrators/step_status.hpp"
 #include "drape/integrators/integrator.hpp"
+#include "drape/integrators/explicit_integrator.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/integrators/implicit_euler.hpp"

@@ -71,6 +71,7 @@
   HOW class ContactHandler<S>;           \
   HOW class SelfCollisionHandler<S>;     \
   HOW class Integrator<S>;               \
+  HOW class ExplicitIntegrator<S>;       \
   HOW class Rk2<S>;                      \
   HOW class SymplecticEuler<S>;          \
   HOW class ImplicitEuler<S>;            \

@@ -49,32 +49,6 @@ struct IntegratorOptions {
   }
 };
 
-namespace detail {
-/// The end of an explicit step for the nodes [begin, begin + count) (3 scalars each): the pinned
-/// ones among them (`pins` sorted, `pin_end` their positions at t + dt in that order) end on their
-/// paths with velocity (x(t + dt) - x) / dt, whatever velocity the caller left on them.
-/// `computed_probe` is the caller's NaN probe of the block's computed values, pinned nodes
-/// included (0 if all are finite, NaN if not: 0 * inf = NaN); returns it plus the probe of the pins'
-/// values. A non-finite value computed for a pinned node fails the step too: it comes from
-/// non-finite forces or velocities, which never stay on one node.
-template <class Scalar>
-Scalar finish_explicit_block(const std::vector<int>& pins, const Matrix3X<Scalar>& pin_end, Index begin, int count,
-                             const Scalar* x, Scalar dt, Scalar* x_new, Scalar* v_new, Scalar computed_probe) {
-  const auto first = std::lower_bound(pins.begin(), pins.end(), begin);
-  const auto last = std::lower_bound(first, pins.end(), begin + count);
-  Scalar probe = computed_probe;
-  for (auto p = first; p != last; ++p) {
-    const Index pin = p - pins.begin();
-    for (int k = 0; k < 3; ++k) {
-      x_new[3 * *p + k] = pin_end(k, pin);
-      v_new[3 * *p + k] = (pin_end(k, pin) - x[3 * *p + k]) / dt;
-      probe += x_new[3 * *p + k] * 0 + v_new[3 * *p + k] * 0;
-    }
-  }
-  return probe;
-}
-}  // namespace detail
-
 template <class Scalar = double>
 class Integrator {
  public:
