@@ -23,8 +23,8 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
-#include "drape/core/cloth.hpp"
 #include "drape/integrators/step_status.hpp"
+#include "drape/model/cloth.hpp"
 
 namespace drape_bench {
 

@@ -16,10 +16,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "drape/core/cloth.hpp"
-#include "drape/core/instruction_set.hpp"
+#include "drape/core/instruction_set_choice.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/step_status.hpp"
+#include "drape/model/cloth.hpp"
 
 namespace drape_bench {
 
@@ -80,7 +80,7 @@ inline const Scene& scene(int n) {
 }
 
 /// Switches drape's AVX2 loops off while it lives (`impl=drape-sse2` rows: the same step without
-/// the run-time dispatch, core/instruction_set.hpp).
+/// the run-time dispatch, platform/instruction_set.hpp).
 struct BaselineInstructionSet {
   drape::InstructionSet saved = drape::instruction_set();
   BaselineInstructionSet() { drape::use_instruction_set(drape::InstructionSet::Baseline); }

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "bench_common.hpp"
-#include "drape/core/collider.hpp"
+#include "drape/contact/collider.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/physics/air.hpp"
 

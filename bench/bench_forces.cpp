@@ -2,13 +2,13 @@
 /// Force assembly and the RK2 step at the default dt: drape (1 and 2 threads) against the textbook
 /// baseline (baseline.hpp); the symplectic Euler step at the same dt (`symplectic_step`). The
 /// `impl=drape-sse2` rows run the same steps with the AVX2 spring pass switched off
-/// (core/instruction_set.hpp): the gain of the run-time dispatch, measured in the same run.
+/// (platform/instruction_set.hpp): the gain of the run-time dispatch, measured in the same run.
 
 #include "baseline.hpp"
 #include "bench_common.hpp"
-#include "drape/core/instruction_set.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/physics/force_assembler.hpp"
+#include "drape/platform/instruction_set.hpp"
 
 namespace drape_bench {
 namespace {

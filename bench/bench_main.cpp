@@ -10,8 +10,8 @@
 
 #include "bench_common.hpp"
 #include "drape/config.hpp"
-#include "drape/core/team.hpp"
 #include "drape/integrators/implicit_euler.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape_bench {
 

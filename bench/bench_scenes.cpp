@@ -42,11 +42,11 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "drape/core/collider.hpp"
+#include "drape/contact/collider.hpp"
+#include "drape/contact/contact_handler.hpp"
 #include "drape/core/pin_path.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/physics/air.hpp"
-#include "drape/physics/contact_handler.hpp"
 
 namespace drape_bench {
 namespace {
@@ -287,7 +287,7 @@ void contact_detection(benchmark::State& st) {
   const std::vector<int>& row_of_node = in.integrator->assembler().row_of_node();
   const std::vector<std::uint8_t>& pinned = in.integrator->pins().mask();
   const drape::State<double>& s = c.scene.warm;
-  drape::ContactHandler<double> handler(cloth);
+  drape::ContactHandler<double> handler(cloth.colliders(), cloth.contact_thickness(), cloth.grid().masses());
   drape::ConstraintFilter<double> filter(system.constraints.rows());
   drape::Matrix3X<double> x_new = in.x_new, v_new = in.v_new;
   long long contacts = 0, steps = 0;

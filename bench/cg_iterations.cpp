@@ -10,8 +10,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "drape/core/cloth.hpp"
 #include "drape/integrators/implicit_euler.hpp"
+#include "drape/model/cloth.hpp"
 
 int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 33;

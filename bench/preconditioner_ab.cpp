@@ -14,8 +14,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
 #include "drape/integrators/implicit_euler.hpp"
+#include "drape/model/cloth.hpp"
 
 namespace {
 double median(std::vector<double> v) {

@@ -31,8 +31,8 @@
 #include <string>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
 #include "drape/integrators/implicit_euler.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/solvers/pcg.hpp"
 #include "tool_text.hpp"

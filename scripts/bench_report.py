@@ -424,7 +424,7 @@ def dispatch_section(results):
             "The explicit steps' spring and node passes, and the implicit solver's assembly (symmetric "
             "variants), edge product, multigrid residual, smoothing, transfers and Galerkin sums, have AVX2 versions chosen at run "
             "time when the CPU has them "
-            "(include/drape/core/instruction_set.hpp; the build itself targets plain x86-64). Both versions "
+            "(include/drape/platform/instruction_set.hpp; the build itself targets plain x86-64). Both versions "
             "give the same bits (tests/core/test_instruction_set.cpp). `drape-sse2` is the same step with "
             "the AVX2 versions switched off, in the same run (implicit Euler: the default solver):", "",
             "| step | n x n | threads | SSE2 only | with AVX2 | speed-up |", "|---|---|---|---|---|---|"] + rows + [""]

@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include "drape/core/cloth.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/force_assembler.hpp"
 
 namespace drape::test {

@@ -9,14 +9,17 @@
 #include "drape/config.hpp"
 #include "drape/fwd.hpp"
 
-// core: types, checks, threads, the cloth model
+// platform: threads, the run-time instruction set, exact vector square roots, a portable sine
+#include "drape/platform/team.hpp"
+#include "drape/platform/sine.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/vector_sqrt.hpp"
+
+// core: types, checks, option names, the parts of the cloth model
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/core/enum_names.hpp"
-#include "drape/core/team.hpp"
-#include "drape/core/sine.hpp"
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/vector_sqrt.hpp"
+#include "drape/core/instruction_set_choice.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/spring_set.hpp"
 #include "drape/core/pins.hpp"
@@ -24,14 +27,10 @@
 #include "drape/core/pin_set.hpp"
 #include "drape/core/state.hpp"
 #include "drape/core/force_term.hpp"
-#include "drape/core/collider.hpp"
 #include "drape/core/placement.hpp"
-#include "drape/core/self_collision_settings.hpp"
-#include "drape/core/cloth.hpp"
 
 // linalg: 3x3 block storage and the linear system solvers are handed
 #include "drape/linalg/block3.hpp"
-#include "drape/linalg/row_avx2.hpp"
 #include "drape/linalg/block_sparse_matrix.hpp"
 #include "drape/linalg/edge_operator.hpp"
 #include "drape/linalg/grid_layout.hpp"
@@ -45,6 +44,15 @@
 #include "drape/collision/mesh_topology.hpp"
 #include "drape/collision/bounding_volume_hierarchy.hpp"
 
+// contact: colliders and self-collision, their settings and the handlers that resolve them
+#include "drape/contact/collider.hpp"
+#include "drape/contact/self_collision_settings.hpp"
+#include "drape/contact/contact_handler.hpp"
+#include "drape/contact/self_collision.hpp"
+
+// model: the cloth composed of core's parts and contact's settings
+#include "drape/model/cloth.hpp"
+
 // physics: forces, their derivatives, the system assembly, diagnostics
 #include "drape/physics/spring_kernel.hpp"
 #include "drape/physics/spring_jacobian.hpp"
@@ -55,8 +63,6 @@
 #include "drape/physics/air_drag.hpp"
 #include "drape/physics/aerodynamic_force.hpp"
 #include "drape/physics/air.hpp"
-#include "drape/physics/contact_handler.hpp"
-#include "drape/physics/self_collision.hpp"
 #include "drape/physics/diagnostics.hpp"
 
 // solvers: linear solvers and preconditioners (know nothing of cloth)
@@ -77,6 +83,7 @@
 // integrators: time stepping
 #include "drape/integrators/step_status.hpp"
 #include "drape/integrators/integrator.hpp"
+#include "drape/integrators/explicit_integrator.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/integrators/implicit_euler.hpp"

@@ -18,8 +18,8 @@
 /// and the Python module are built this way (drape's building.md says what it saves); a program
 /// that does not include this header is unaffected.
 ///
-/// Not in the lists: EdgeOperator (its AVX2 members exist for one scalar type each, and an
-/// explicit instantiation compiles every member) and most function templates.
+/// Not in the lists: EdgeOperator and most function templates, compiled in each source that uses
+/// them.
 
 #include "drape/drape.hpp"
 #include "drape/solvers/eigen_direct.hpp"
@@ -71,6 +71,7 @@
   HOW class ContactHandler<S>;           \
   HOW class SelfCollisionHandler<S>;     \
   HOW class Integrator<S>;               \
+  HOW class ExplicitIntegrator<S>;       \
   HOW class Rk2<S>;                      \
   HOW class SymplecticEuler<S>;          \
   HOW class ImplicitEuler<S>;            \

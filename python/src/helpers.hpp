@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/core/state.hpp"
 #include "drape/fwd.hpp"
 // The library's class templates compiled once, in drape_instances, not in each binding file.

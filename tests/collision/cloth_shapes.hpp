@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "drape/core/cloth.hpp"
+#include "drape/model/cloth.hpp"
 
 namespace drape::test {
 

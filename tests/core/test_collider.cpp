@@ -1,4 +1,4 @@
-// Rigid colliders (physics/collider.hpp): the analytic gradient of every shape against central
+// Rigid colliders (contact/collider.hpp): the analytic gradient of every shape against central
 // differences inside and outside, known distances, moving and spinning colliders, the constant
 // motion's pose, the swept test (thin boxes, misses, starts inside, relative motion, and a sampled
 // check that it never passes a contact), and parameter checks.
@@ -10,7 +10,7 @@
 
 #include <Eigen/Geometry>
 
-#include "drape/core/collider.hpp"
+#include "drape/contact/collider.hpp"
 
 using namespace drape;
 

@@ -9,12 +9,12 @@
 #include <random>
 #include <vector>
 
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/vector_sqrt.hpp"
+#include "drape/core/instruction_set_choice.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
+#include "drape/platform/vector_sqrt.hpp"
 #include "test_common.hpp"
 
 using namespace drape;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "drape/core/sine.hpp"
+#include "drape/platform/sine.hpp"
 
 using drape::detail::cosine;
 using drape::detail::sine;

@@ -2,8 +2,8 @@
 
 #include <limits>
 
-#include "drape/core/cloth.hpp"
 #include "drape/integrators/rk2.hpp"
+#include "drape/model/cloth.hpp"
 
 using namespace drape;
 using Catch::Matchers::Contains;

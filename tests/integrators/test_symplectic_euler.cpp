@@ -4,47 +4,25 @@
 #include <array>
 #include <cstring>
 
-#include "drape/core/team.hpp"
 #include "drape/integrators/make_integrator.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/platform/team.hpp"
+#include "integrators/explicit_test_helpers.hpp"
 #include "test_common.hpp"
 
 using namespace drape;
 
-namespace {
-
-// A small swinging cloth: one corner pinned, gravity on, kd = 0 unless asked for.
-ClothSpec<double> swing_spec(double kd = 0) {
-  auto spec = test::small_spec<double>(5, 10.0);
-  spec.boundary = BoundaryCondition::OneCorner;
-  spec.springs = {{300, kd}, {200, kd}, {50, kd}};
-  return spec;
-}
-
-template <class Stepper>
-State<double> run(const Cloth<double>& cloth, double dt, double duration) {
-  Stepper stepper(cloth, {dt, 1});
-  State<double> s = cloth.initial_state();
-  const int steps = static_cast<int>(std::lround(duration / dt));
-  for (int k = 0; k < steps; ++k) REQUIRE(stepper.step(s).ok());
-  return s;
-}
-
-}  // namespace
+using test::run;
+using test::swing_spec;
 
 TEMPLATE_TEST_CASE("one symplectic Euler step: v += dt f(x, v) / m, then x += dt v with the new v",
                    "[symplectic][stages]", float, double) {
   using S = TestType;
   for (int threads : {1, 2}) {
-    ClothSpec<S> spec;  // the default cloth: 6.2k springs, two threads are used
-    spec.boundary = BoundaryCondition::TwoCorners;
-    const Cloth<S> cloth(spec);
-    State<S> s = cloth.initial_state();
-    s.positions = test::jiggled_positions(cloth, S(0.2), 31);
-    s.velocities = test::random_velocities<S>(cloth.node_count(), S(1), 32);
-    s.velocities.col(cloth.pins().nodes().back()) = Vec3<S>(1, -2, 3);  // ignored: pinned
+    const Cloth<S> cloth(test::stage_spec<S>());
+    State<S> s = test::stage_start(cloth);
     const S dt = S(IntegratorOptions{}.dt);
     const ForceAssembler<S> forces(cloth, 1);
     Matrix3X<S> f(3, cloth.node_count());
@@ -61,10 +39,7 @@ TEMPLATE_TEST_CASE("one symplectic Euler step: v += dt f(x, v) / m, then x += dt
     const S t0 = s.time;
     REQUIRE(stepper.step(s).ok());
     INFO(threads << " thread(s)");
-    const S eps = std::is_same<S, float>::value ? S(1e-6) : S(1e-14);
-    REQUIRE((s.positions - x_new).cwiseAbs().maxCoeff() <= eps * x_new.cwiseAbs().maxCoeff());
-    REQUIRE((s.velocities - v_new).cwiseAbs().maxCoeff() <= eps * v_new.cwiseAbs().maxCoeff());
-    REQUIRE(s.time == t0 + dt);
+    test::require_step_result(s, x_new, v_new, t0, dt);
   }
 }
 
@@ -129,42 +104,13 @@ TEST_CASE("symplectic Euler without damping: energy error O(dt) and bounded over
 TEMPLATE_TEST_CASE("symplectic Euler free fall: x_n = -g t^2 / 2 - g t dt / 2 exactly, springs at rest",
                    "[symplectic][free-fall]", float, double) {
   using S = TestType;
-  auto spec = test::small_spec<S>(4, S(10));
-  spec.pinned_nodes = std::vector<int>{};
-  spec.springs = {{S(300), S(1)}, {S(200), S(1)}, {S(50), S(1)}};
-  const Cloth<S> cloth(spec);
-  const S dt = S(1e-3);
-  SymplecticEuler<S> stepper(cloth, {double(dt), 1});
-  State<S> s = cloth.initial_state();
-  for (int k = 0; k < 500; ++k) REQUIRE(stepper.step(s).ok());
-  const S t = S(500) * dt;
   // v_n = -g n dt, x_n = -g dt^2 n (n + 1) / 2: first order, half a step ahead of the parabola.
-  const S expected = -S(10) * t * t / 2 - S(10) * t * dt / 2;
-  const S tol = std::is_same<S, float>::value ? S(1e-4) : S(1e-12);
-  REQUIRE(s.time == Approx(t));
-  for (int i = 0; i < cloth.node_count(); ++i) {
-    REQUIRE(test::close<S>(s.positions(1, i), expected, tol));
-    REQUIRE(test::close<S>(s.velocities(1, i), -S(10) * t, tol));
-  }
-  REQUIRE(std::abs(max_strain(cloth, s.positions)) < tol);
+  test::require_free_fall<SymplecticEuler, S>([](S t, S dt) { return -S(10) * t * t / 2 - S(10) * t * dt / 2; });
 }
 
 TEMPLATE_TEST_CASE("symplectic Euler: pinned nodes stay bit-identical and at rest", "[symplectic][pins]", float,
                    double) {
-  using S = TestType;
-  ClothSpec<S> spec;
-  spec.nx = spec.ny = 9;
-  const Cloth<S> cloth(spec);
-  SymplecticEuler<S> stepper(cloth);
-  State<S> s = cloth.initial_state();
-  const Matrix3X<S> start = s.positions;
-  s.velocities.col(cloth.pins().nodes().front()) = Vec3<S>(1, 2, 3);  // a careless caller
-  for (int k = 0; k < 300; ++k) REQUIRE(stepper.step(s).ok());
-  for (int p : cloth.pins().nodes()) {
-    REQUIRE(std::memcmp(s.positions.col(p).data(), start.col(p).data(), 3 * sizeof(S)) == 0);
-    REQUIRE(s.velocities.col(p).isZero(0));
-  }
-  REQUIRE(s.positions.row(1).minCoeff() < S(-0.1));  // the rest of the cloth did fall
+  test::require_pins_stay_put<SymplecticEuler, TestType>(ClothSpec<TestType>{}.boundary);
 }
 
 TEST_CASE("symplectic Euler: 1 and 2 threads agree bit for bit; a diverging step is reported",
@@ -208,15 +154,5 @@ TEST_CASE("symplectic Euler: 1 and 2 threads agree bit for bit; a diverging step
 TEST_CASE("the default scene is stable with symplectic Euler at the default dt for both boundary conditions",
           "[symplectic][defaults]") {
   // Largest stable dt of the default scene over 5 s: 0.71 ms (docs/parameters.md); the default 0.5 ms.
-  for (auto bc : {BoundaryCondition::OneCorner, BoundaryCondition::TwoCorners}) {
-    ClothSpec<double> spec;
-    spec.boundary = bc;
-    const Cloth<double> cloth(spec);
-    SymplecticEuler<double> stepper(cloth);
-    State<double> s = cloth.initial_state();
-    const int steps = static_cast<int>(std::lround(3.0 / stepper.dt()));
-    for (int k = 0; k < steps; ++k) REQUIRE(stepper.step(s).ok());
-    REQUIRE(s.positions.cwiseAbs().maxCoeff() < 10.0);
-    REQUIRE(max_strain(cloth, s.positions) < 0.5);
-  }
+  test::require_default_scene_stable<SymplecticEuler<double>>();
 }

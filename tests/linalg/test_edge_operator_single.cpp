@@ -5,7 +5,7 @@
 #include <cstring>
 #include <vector>
 
-#include "drape/core/instruction_set.hpp"
+#include "drape/core/instruction_set_choice.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
 #include "test_common.hpp"
 

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <memory>
 
-#include "drape/core/team.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
@@ -16,6 +15,7 @@
 #include "drape/physics/air.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
+#include "drape/platform/team.hpp"
 #include "support/dense.hpp"
 #include "test_common.hpp"
 

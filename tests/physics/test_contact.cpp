@@ -1,4 +1,4 @@
-// Contact with colliders in both integrators (physics/contact_handler.hpp): resting contact with
+// Contact with colliders in both integrators (contact/contact_handler.hpp): resting contact with
 // the reaction equal to the weight, Coulomb friction on a slope against g (sin a - mu cos a), no
 // tunnelling through a thin box or past a fast collider (checked by brute force on every node's
 // path), direct and iterative solvers agreeing, momentum, determinism and bad input.

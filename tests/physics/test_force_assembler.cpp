@@ -5,10 +5,10 @@
 #include <set>
 #include <tuple>
 
-#include "drape/core/team.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/physics/spring_kernel.hpp"
+#include "drape/platform/team.hpp"
 #include "test_common.hpp"
 
 using namespace drape;

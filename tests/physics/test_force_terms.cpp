@@ -10,13 +10,13 @@
 
 #include <Eigen/Cholesky>
 
-#include "drape/core/team.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/enable_ldlt.hpp"
 #include "drape/solvers/enable_lu.hpp"
 #include "test_common.hpp"

@@ -1,4 +1,4 @@
-// Self-collision (physics/self_collision.hpp) in scenes where the cloth folds onto itself, for
+// Self-collision (contact/self_collision.hpp) in scenes where the cloth folds onto itself, for
 // every integrator: an exact triangle-triangle test over all triangle pairs that share no node
 // (brute force, tests/collision/mesh_checks.hpp) finds no intersection at any step, and pairs of
 // primitives that share no node keep a stated fraction of the layer distance; the same scenes

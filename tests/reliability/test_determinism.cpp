@@ -5,11 +5,11 @@
 #include <cstring>
 #include <functional>
 
-#include "drape/core/cloth.hpp"
 #include "drape/fwd.hpp"
-#include "drape/core/team.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
+#include "drape/model/cloth.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/enable_ldlt.hpp"  // opt-in solver used below
 
 using namespace drape;

@@ -14,11 +14,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "drape/core/cloth.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/io/state_io.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/solvers/enable_ldlt.hpp"  // opt-in solvers: "every solver" covers them too
 #include "drape/solvers/enable_lu.hpp"
 

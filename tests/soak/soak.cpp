@@ -13,9 +13,9 @@
 #include <memory>
 #include <string>
 
-#include "drape/core/cloth.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/make_integrator.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/diagnostics.hpp"
 
 namespace {

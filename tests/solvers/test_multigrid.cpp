@@ -11,7 +11,7 @@
 
 #include <Eigen/SparseCore>
 
-#include "drape/core/instruction_set.hpp"
+#include "drape/core/instruction_set_choice.hpp"
 #include "drape/fwd.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/physics/jacobian_assembler.hpp"

@@ -9,9 +9,9 @@
 #include <utility>
 #include <vector>
 
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/team.hpp"
+#include "drape/core/instruction_set_choice.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/block_jacobi.hpp"
 #include "drape/solvers/multigrid.hpp"
 #include "test_common.hpp"

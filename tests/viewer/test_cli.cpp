@@ -576,10 +576,6 @@ std::string parse_error(const fs::path& dir, const std::string& toml, std::vecto
   return "";
 }
 
-double distance(const drape::Colliderd& c, double x, double y, double z, double t = 0) {
-  return c.query(drape::Vec3<double>(x, y, z), t).distance;
-}
-
 bool same(const drape::viewer::Image& a, const drape::viewer::Image& b) { return a.rgb == b.rgb; }
 
 const fs::path scenes_dir = fs::path(__FILE__).parent_path().parent_path().parent_path() / "scenes";

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
 #include "drape/integrators/rk2.hpp"
 #include "drape/io/atomic_file.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
 #include "drape/viewer/collider_mesh.hpp"

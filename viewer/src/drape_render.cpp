@@ -20,10 +20,10 @@
 #include <unistd.h>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
 #include "drape/integrators/make_integrator.hpp"
 #include "drape/io/obj.hpp"
 #include "drape/io/state_io.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/realtime/realtime_driver.hpp"

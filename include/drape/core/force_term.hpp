@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "drape/core/team.hpp"
 #include "drape/core/types.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 
@@ -78,7 +78,7 @@ class ForceTerm {
   }
 
   /// True if add_force() and add_derivatives() share their work with a team of threads
-  /// (core/team.hpp): every thread of the team calls them with the same arguments; they split the
+  /// (platform/team.hpp): every thread of the team calls them with the same arguments; they split the
   /// work with team_for(), which waits at the end, so that no two threads write the same node's
   /// force, or the blocks of the same node `a` through ForceDerivatives::add(), at once; and each
   /// sum is formed in an order that does not depend on the thread count. Outside a team they run

@@ -21,9 +21,9 @@
 #include <memory>
 #include <string>
 
-#include "drape/core/cloth.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/integrators/integrator.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
 #include "drape/physics/spring_jacobian.hpp"
@@ -54,7 +54,7 @@ struct ImplicitOptions : IntegratorOptions {
   int newton_iterations = 1;
   double newton_tolerance = 1e-6;
   /// With colliders: at most this many linear solves per step while the contact set changes
-  /// (nodes let go or newly reached; physics/contact_handler.hpp). After the last one, contacts
+  /// (nodes let go or newly reached; contact/contact_handler.hpp). After the last one, contacts
   /// the solve lets go are free from the next step and nodes it newly brings to a collider get an
   /// impulse and are constraints from the next step (1: Baraff and Witkin's lagged active set;
   /// cheapest, but impacts strain the cloth more: docs/contact.md has the measurements behind 2).

@@ -10,15 +10,15 @@
 #include <cstdint>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
-#include "drape/core/pin_set.hpp"
+#include "drape/contact/contact_handler.hpp"
+#include "drape/contact/self_collision.hpp"
 #include "drape/core/enum_names.hpp"
+#include "drape/core/pin_set.hpp"
 #include "drape/core/state.hpp"
-#include "drape/core/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/integrators/step_status.hpp"
-#include "drape/physics/contact_handler.hpp"
-#include "drape/physics/self_collision.hpp"
+#include "drape/model/cloth.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 
@@ -48,32 +48,6 @@ struct IntegratorOptions {
     detail::require_at_least("threads", threads, 0);
   }
 };
-
-namespace detail {
-/// The end of an explicit step for the nodes [begin, begin + count) (3 scalars each): the pinned
-/// ones among them (`pins` sorted, `pin_end` their positions at t + dt in that order) end on their
-/// paths with velocity (x(t + dt) - x) / dt, whatever velocity the caller left on them.
-/// `computed_probe` is the caller's NaN probe of the block's computed values, pinned nodes
-/// included (0 if all are finite, NaN if not: 0 * inf = NaN); returns it plus the probe of the pins'
-/// values. A non-finite value computed for a pinned node fails the step too: it comes from
-/// non-finite forces or velocities, which never stay on one node.
-template <class Scalar>
-Scalar finish_explicit_block(const std::vector<int>& pins, const Matrix3X<Scalar>& pin_end, Index begin, int count,
-                             const Scalar* x, Scalar dt, Scalar* x_new, Scalar* v_new, Scalar computed_probe) {
-  const auto first = std::lower_bound(pins.begin(), pins.end(), begin);
-  const auto last = std::lower_bound(first, pins.end(), begin + count);
-  Scalar probe = computed_probe;
-  for (auto p = first; p != last; ++p) {
-    const Index pin = p - pins.begin();
-    for (int k = 0; k < 3; ++k) {
-      x_new[3 * *p + k] = pin_end(k, pin);
-      v_new[3 * *p + k] = (pin_end(k, pin) - x[3 * *p + k]) / dt;
-      probe += x_new[3 * *p + k] * 0 + v_new[3 * *p + k] * 0;
-    }
-  }
-  return probe;
-}
-}  // namespace detail
 
 template <class Scalar = double>
 class Integrator {
@@ -111,8 +85,9 @@ class Integrator {
       : m_cloth(&cloth),
         m_dt((options.validate(), Scalar(options.dt))),
         m_pins(cloth.pins()),
-        m_contacts(cloth),
-        m_self_collisions(cloth) {
+        m_contacts(cloth.colliders(), cloth.contact_thickness(), cloth.grid().masses()),
+        m_self_collisions(cloth.self_collision(), cloth.contact_thickness(), cloth.grid().triangles(),
+                          cloth.grid().masses(), cloth.start_positions()) {
     set_dt(m_dt);  // the conversion to Scalar must not make it 0 or infinite
   }
 

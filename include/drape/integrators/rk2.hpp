@@ -5,7 +5,7 @@
 ///     q = (x, v), \quad F(q) = (v,\; M^{-1} f(x, v)). \f]
 /// Pinned nodes are set on their paths after each stage (the midpoint's position at t + dt/2, the
 /// end's at t + dt, the velocity (x(t + dt) - x) / dt): a holding pin never moves.
-/// Contacts with colliders are resolved on the step's result (physics/contact_handler.hpp).
+/// Contacts with colliders are resolved on the step's result (contact/contact_handler.hpp).
 /// Conditionally stable: see drape's parameters.md for the largest stable dt.
 ///
 /// One step is one parallel region with five barriers: q copied by component, spring pass at q,
@@ -18,15 +18,15 @@
 #include <atomic>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
-#include "drape/core/team.hpp"
-#include "drape/integrators/integrator.hpp"
+#include "drape/integrators/explicit_integrator.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/force_assembler.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 
 template <class Scalar = double>
-class Rk2 final : public Integrator<Scalar> {
+class Rk2 final : public ExplicitIntegrator<Scalar> {
  public:
   /// \throws InvalidParameter as IntegratorOptions::validate().
   explicit Rk2(const Cloth<Scalar>& cloth, const IntegratorOptions& options = {});
@@ -35,31 +35,27 @@ class Rk2 final : public Integrator<Scalar> {
 
   StepStatus step(State<Scalar>& state) override;
 
-  const ForceAssembler<Scalar>& forces() const { return m_forces; }
-
  private:
-  ForceAssembler<Scalar> m_forces;
-  VectorX<Scalar> m_inverse_mass;
+  using ExplicitIntegrator<Scalar>::m_forces;
+  using ExplicitIntegrator<Scalar>::m_inverse_mass;
+  using ExplicitIntegrator<Scalar>::m_x_new;
+  using ExplicitIntegrator<Scalar>::m_v_new;
+  using ExplicitIntegrator<Scalar>::m_pin_end;
+
   /// Midpoint positions and velocities, one array per component (stride-1 input of the second
   /// spring pass).
   std::vector<Scalar> m_midpoint;
-  Matrix3X<Scalar> m_x_new, m_v_new;
   /// The midpoint as 3 x n node data, for the force terms (empty without terms).
   Matrix3X<Scalar> m_x_mid, m_v_mid;
-  /// The pins' positions at the midpoint and the end of the step (pins().nodes() order).
-  Matrix3X<Scalar> m_pin_mid, m_pin_end;
+  /// The pins' positions at the midpoint (pins().nodes() order).
+  Matrix3X<Scalar> m_pin_mid;
 };
 
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
 Rk2<Scalar>::Rk2(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
-    : Integrator<Scalar>(cloth, options),
-      m_forces(cloth, options.threads),
-      m_inverse_mass(cloth.grid().masses().cwiseInverse()),
-      m_midpoint(6 * std::size_t(cloth.node_count())),
-      m_x_new(3, cloth.node_count()),
-      m_v_new(3, cloth.node_count()) {
+    : ExplicitIntegrator<Scalar>(cloth, options), m_midpoint(6 * std::size_t(cloth.node_count())) {
   if (m_forces.has_terms()) {
     m_x_mid.resize(3, cloth.node_count());
     m_v_mid.resize(3, cloth.node_count());
@@ -68,7 +64,7 @@ Rk2<Scalar>::Rk2(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
 
 template <class Scalar>
 StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
-  this->require_state_fits(state);
+  this->begin_step(state);
   const Scalar dt = this->dt();
   const Index n = m_inverse_mass.size();
   const Scalar half = Scalar(0.5) * dt;
@@ -83,7 +79,6 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
   const Scalar* inverse_mass = m_inverse_mass.data();
   const std::vector<int>& pins = this->pins().nodes();
   this->pins().positions(state.time + half, state.positions, m_pin_mid);
-  this->pins().positions(state.time + dt, state.positions, m_pin_end);
   // Pins inside [begin, end): pins are sorted.
   const auto pins_in = [&](Index begin, Index end) {
     return std::make_pair(std::lower_bound(pins.begin(), pins.end(), begin),
@@ -166,18 +161,12 @@ StepStatus Rk2<Scalar>::step(State<Scalar>& state) {
         vn[3 * j + 2] = u2;
         block_probe += (y0 + y1 + y2) * 0 + (u0 + u1 + u2) * 0;
       }
-      probe += detail::finish_explicit_block(pins, m_pin_end, i0, block.count, x, dt, x_new, v_new, block_probe);
+      probe += this->finish_block(x, i0, block.count, dt, block_probe);
     });
     if (!(probe == 0)) finite.store(false, std::memory_order_relaxed);
   });
 
-  if (!finite.load(std::memory_order_relaxed)) return {StepError::NonFiniteState, 0, 0.0};
-  // Contacts: an impulse to each node that reaches a collider, friction, the end-of-step check.
-  this->respond_to_contacts(state, dt, m_x_new, m_v_new);
-  state.positions.swap(m_x_new);
-  state.velocities.swap(m_v_new);
-  state.time += dt;
-  return {};
+  return this->finish_step(state, finite.load(std::memory_order_relaxed));
 }
 
 }  // namespace drape

@@ -7,55 +7,44 @@
 /// oscillates around its true value instead of drifting (its stable dt is also larger than the
 /// midpoint rule's for springs with little damping: docs/parameters.md). RK2 stays the default.
 /// Pinned nodes end the step on their path with velocity (x(t + dt) - x) / dt, as in RK2; contacts
-/// with colliders are resolved on the step's result (physics/contact_handler.hpp).
+/// with colliders are resolved on the step's result (contact/contact_handler.hpp).
 ///
 /// One step is one parallel region with two barriers: x and v copied by component, the spring pass,
 /// then the node pass fused with the update and the finiteness check (force_assembler.hpp).
 /// Bitwise identical for any thread count. Force terms are evaluated at (x_t, v_t, t) before it.
 
-#include <algorithm>
 #include <atomic>
-#include <vector>
 
-#include "drape/core/cloth.hpp"
-#include "drape/core/team.hpp"
-#include "drape/integrators/integrator.hpp"
+#include "drape/integrators/explicit_integrator.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/force_assembler.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 
 template <class Scalar = double>
-class SymplecticEuler final : public Integrator<Scalar> {
+class SymplecticEuler final : public ExplicitIntegrator<Scalar> {
  public:
   /// \throws InvalidParameter as IntegratorOptions::validate().
-  explicit SymplecticEuler(const Cloth<Scalar>& cloth, const IntegratorOptions& options = {});
+  explicit SymplecticEuler(const Cloth<Scalar>& cloth, const IntegratorOptions& options = {})
+      : ExplicitIntegrator<Scalar>(cloth, options) {}
   /// The integrator keeps a reference to the cloth: a temporary would dangle.
   SymplecticEuler(const Cloth<Scalar>&& cloth, const IntegratorOptions& options = {}) = delete;
 
   StepStatus step(State<Scalar>& state) override;
 
-  const ForceAssembler<Scalar>& forces() const { return m_forces; }
-
  private:
-  ForceAssembler<Scalar> m_forces;
-  VectorX<Scalar> m_inverse_mass;
-  Matrix3X<Scalar> m_x_new, m_v_new;
-  Matrix3X<Scalar> m_pin_end;  // the pins' positions at the end of the step (pins().nodes() order)
+  using ExplicitIntegrator<Scalar>::m_forces;
+  using ExplicitIntegrator<Scalar>::m_inverse_mass;
+  using ExplicitIntegrator<Scalar>::m_x_new;
+  using ExplicitIntegrator<Scalar>::m_v_new;
 };
 
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-SymplecticEuler<Scalar>::SymplecticEuler(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
-    : Integrator<Scalar>(cloth, options),
-      m_forces(cloth, options.threads),
-      m_inverse_mass(cloth.grid().masses().cwiseInverse()),
-      m_x_new(3, cloth.node_count()),
-      m_v_new(3, cloth.node_count()) {}
-
-template <class Scalar>
 StepStatus SymplecticEuler<Scalar>::step(State<Scalar>& state) {
-  this->require_state_fits(state);
+  this->begin_step(state);
   const Scalar dt = this->dt();
   const Scalar* x = state.positions.data();
   // x and v by component (copy_input), read by the node pass too.
@@ -63,8 +52,6 @@ StepStatus SymplecticEuler<Scalar>::step(State<Scalar>& state) {
   Scalar* x_new = m_x_new.data();
   Scalar* v_new = m_v_new.data();
   const Scalar* inverse_mass = m_inverse_mass.data();
-  const std::vector<int>& pins = this->pins().nodes();
-  this->pins().positions(state.time + dt, state.positions, m_pin_end);
   std::atomic<bool> finite{true};
   m_forces.evaluate_terms(state.positions, state.velocities, state.time);
 
@@ -99,18 +86,12 @@ StepStatus SymplecticEuler<Scalar>::step(State<Scalar>& state) {
         xn[3 * j + 2] = y2;
         block_probe += (y0 + y1 + y2) * 0 + (u0 + u1 + u2) * 0;
       }
-      probe += detail::finish_explicit_block(pins, m_pin_end, i0, block.count, x, dt, x_new, v_new, block_probe);
+      probe += this->finish_block(x, i0, block.count, dt, block_probe);
     });
     if (!(probe == 0)) finite.store(false, std::memory_order_relaxed);
   });
 
-  if (!finite.load(std::memory_order_relaxed)) return {StepError::NonFiniteState, 0, 0.0};
-  // Contacts: an impulse to each node that reaches a collider, friction, the end-of-step check.
-  this->respond_to_contacts(state, dt, m_x_new, m_v_new);
-  state.positions.swap(m_x_new);
-  state.velocities.swap(m_v_new);
-  state.time += dt;
-  return {};
+  return this->finish_step(state, finite.load(std::memory_order_relaxed));
 }
 
 }  // namespace drape

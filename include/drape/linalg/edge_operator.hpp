@@ -38,15 +38,11 @@
 
 #include <Eigen/Core>
 
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/team.hpp"
 #include "drape/core/types.hpp"
 #include "drape/linalg/block3.hpp"
-#include "drape/linalg/row_avx2.hpp"
-
-#if DRAPE_AVX2_DISPATCH
-#include <immintrin.h>
-#endif
+#include "drape/linalg/detail/edge_operator_avx2.hpp"
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 
@@ -148,10 +144,9 @@ class EdgeOperator {
   template <bool Symmetric>
   DRAPE_INLINE_LOOP void add_edge_range(const Scalar* x, Scalar* y, int begin, int end) const;
 #if DRAPE_AVX2_DISPATCH
-  /// add_edge_products for symmetric double blocks with AVX2: four edges of a colour per step.
-  __attribute__((target("avx2"))) void add_symmetric_edge_products_avx2(const double* x, double* y) const;
-  /// The same for float blocks: the four edges of a group in 128-bit vectors, the same steps.
-  __attribute__((target("avx2"))) void add_symmetric_edge_products_avx2(const float* x, float* y) const;
+  /// add_edge_products for symmetric blocks with AVX2, Scalar double (four edges of a colour per
+  /// step in 256-bit vectors) or float (in 128-bit ones, the same steps).
+  __attribute__((target("avx2"))) void add_symmetric_edge_products_avx2(const Scalar* x, Scalar* y) const;
 #endif
   /// If every B_r is s_r I, writes m_r + s_r to m_row_diagonal and returns true.
   bool fold_isotropic_row_blocks();
@@ -288,145 +283,17 @@ DRAPE_INLINE_LOOP void EdgeOperator<Scalar>::add_edge_range(const Scalar* x, Sca
 // clang-format on
 
 #if DRAPE_AVX2_DISPATCH
-namespace detail {
-/// Row r of x as (x0, x1, x2, 0); zero for an end outside the system (r < 0).
-__attribute__((target("avx2"), always_inline)) inline __m256d load_row_avx2(const double* x, int r) {
-  return r >= 0 ? _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(x + 3 * r)), _mm_load_sd(x + 3 * r + 2), 1)
-                : _mm256_setzero_pd();
-}
-/// y_r += (t0, t1), t2 (`Add`) or y_r -= them; nothing for r < 0.
-template <bool Add>
-__attribute__((target("avx2"), always_inline)) inline void update_row_avx2(double* y, int r, __m128d t01, __m128d t2) {
-  if (r < 0) return;
-  double* yr = y + 3 * r;
-  const __m128d y01 = _mm_loadu_pd(yr), y2 = _mm_load_sd(yr + 2);
-  _mm_storeu_pd(yr, Add ? _mm_add_pd(y01, t01) : _mm_sub_pd(y01, t01));
-  _mm_store_sd(yr + 2, Add ? _mm_add_sd(y2, t2) : _mm_sub_sd(y2, t2));
-}
-/// x_a - x_b of four edges whose ends are the rows a..a+3 and b..b+3, one vector per component:
-/// three whole loads per end instead of four gathers, and a 4 x 3 transpose.
-__attribute__((target("avx2"), always_inline)) inline void load_consecutive_differences_avx2(const double* x, int a,
-                                                                                             int b, __m256d& dx,
-                                                                                             __m256d& dy, __m256d& dz) {
-  const double *xa = x + 3 * a, *xb = x + 3 * b;
-  // d0 = (x0 y0 z0 x1), d1 = (y1 z1 x2 y2), d2 = (z2 x3 y3 z3).
-  const __m256d d0 = _mm256_sub_pd(_mm256_loadu_pd(xa), _mm256_loadu_pd(xb));
-  const __m256d d1 = _mm256_sub_pd(_mm256_loadu_pd(xa + 4), _mm256_loadu_pd(xb + 4));
-  const __m256d d2 = _mm256_sub_pd(_mm256_loadu_pd(xa + 8), _mm256_loadu_pd(xb + 8));
-  // Blends give (x0 x3 x2 x1), (y1 y0 y3 y2), (z2 z1 z0 z3); one permutation each puts them in order.
-  dx = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(d0, d1, 0b0100), d2, 0b0010), 0x6C);
-  dy = _mm256_permute_pd(_mm256_blend_pd(_mm256_blend_pd(d0, d1, 0b1001), d2, 0b0100), 0b0101);
-  dz = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(d0, d1, 0b0010), d2, 0b1001), 0xC6);
-}
-/// y_{a+i} += t_i and y_{b+i} -= t_i for i < 4, t given by components: the inverse of
-/// load_consecutive_differences_avx2's transpose (its permutations are their own inverses).
-__attribute__((target("avx2"), always_inline)) inline void update_consecutive_rows_avx2(double* y, int a, int b,
-                                                                                        __m256d tx, __m256d ty,
-                                                                                        __m256d tz) {
-  const __m256d px = _mm256_permute4x64_pd(tx, 0x6C), py = _mm256_permute_pd(ty, 0b0101);
-  const __m256d pz = _mm256_permute4x64_pd(tz, 0xC6);
-  const __m256d t0 = _mm256_blend_pd(_mm256_blend_pd(px, py, 0b0010), pz, 0b0100);  // (tx0 ty0 tz0 tx1)
-  const __m256d t1 = _mm256_blend_pd(_mm256_blend_pd(py, pz, 0b0010), px, 0b0100);  // (ty1 tz1 tx2 ty2)
-  const __m256d t2 = _mm256_blend_pd(_mm256_blend_pd(pz, px, 0b0010), py, 0b0100);  // (tz2 tx3 ty3 tz3)
-  double *ya = y + 3 * a, *yb = y + 3 * b;
-  _mm256_storeu_pd(ya, _mm256_add_pd(_mm256_loadu_pd(ya), t0));
-  _mm256_storeu_pd(ya + 4, _mm256_add_pd(_mm256_loadu_pd(ya + 4), t1));
-  _mm256_storeu_pd(ya + 8, _mm256_add_pd(_mm256_loadu_pd(ya + 8), t2));
-  _mm256_storeu_pd(yb, _mm256_sub_pd(_mm256_loadu_pd(yb), t0));
-  _mm256_storeu_pd(yb + 4, _mm256_sub_pd(_mm256_loadu_pd(yb + 4), t1));
-  _mm256_storeu_pd(yb + 8, _mm256_sub_pd(_mm256_loadu_pd(yb + 8), t2));
-}
-/// Four rows' differences (x, y, z, unused) as one vector per component (a 4 x 3 transpose).
-__attribute__((target("avx2"), always_inline)) inline void transpose_differences_avx2(__m256d d0, __m256d d1,
-                                                                                      __m256d d2, __m256d d3,
-                                                                                      __m256d& dx, __m256d& dy,
-                                                                                      __m256d& dz) {
-  const __m256d lo01 = _mm256_unpacklo_pd(d0, d1), hi01 = _mm256_unpackhi_pd(d0, d1);
-  const __m256d lo23 = _mm256_unpacklo_pd(d2, d3), hi23 = _mm256_unpackhi_pd(d2, d3);
-  dx = _mm256_permute2f128_pd(lo01, lo23, 0x20);
-  dy = _mm256_permute2f128_pd(hi01, hi23, 0x20);
-  dz = _mm256_permute2f128_pd(lo01, lo23, 0x31);
-}
-/// x_a - x_b of an AdjacentPairs group (edge m joins rows a + 2m and a + 2m + 1): each edge's six
-/// values are one window of x; nothing outside rows [a, a + 8) is read.
-__attribute__((target("avx2"), always_inline)) inline void load_adjacent_pair_differences_avx2(const double* x, int a,
-                                                                                               __m256d& dx,
-                                                                                               __m256d& dy,
-                                                                                               __m256d& dz) {
-  const double* p = x + 3 * a;
-  __m256d d[4];
-  for (int m = 0; m < 4; ++m) {
-    // (xa ya za xb) minus (za xb yb zb) turned to (xb yb zb za).
-    const __m256d second = _mm256_permute4x64_pd(_mm256_loadu_pd(p + 6 * m + 2), 0x39);
-    d[m] = _mm256_sub_pd(_mm256_loadu_pd(p + 6 * m), second);
-  }
-  transpose_differences_avx2(d[0], d[1], d[2], d[3], dx, dy, dz);
-}
-/// y_a += t and y_b -= t (as y_b + (-t), the same bits) for an AdjacentPairs group: per edge one
-/// four-value and one two-value update of its six values, (tx ty tz -tx) and (-ty -tz).
-__attribute__((target("avx2"), always_inline)) inline void update_adjacent_pairs_avx2(double* y, int a, __m256d tx,
-                                                                                      __m256d ty, __m256d tz) {
-  const __m256d sign = _mm256_set1_pd(-0.0);
-  const __m256d ntx = _mm256_xor_pd(tx, sign), nty = _mm256_xor_pd(ty, sign), ntz = _mm256_xor_pd(tz, sign);
-  const __m256d xy02 = _mm256_unpacklo_pd(tx, ty), xy13 = _mm256_unpackhi_pd(tx, ty);     // (tx0 ty0 tx2 ty2)
-  const __m256d zx02 = _mm256_unpacklo_pd(tz, ntx), zx13 = _mm256_unpackhi_pd(tz, ntx);   // (tz0 -tx0 tz2 -tx2)
-  const __m256d yz02 = _mm256_unpacklo_pd(nty, ntz), yz13 = _mm256_unpackhi_pd(nty, ntz);  // (-ty0 -tz0 -ty2 -tz2)
-  const __m256d first[4] = {_mm256_permute2f128_pd(xy02, zx02, 0x20), _mm256_permute2f128_pd(xy13, zx13, 0x20),
-                            _mm256_permute2f128_pd(xy02, zx02, 0x31), _mm256_permute2f128_pd(xy13, zx13, 0x31)};
-  const __m128d second[4] = {_mm256_castpd256_pd128(yz02), _mm256_castpd256_pd128(yz13), _mm256_extractf128_pd(yz02, 1),
-                             _mm256_extractf128_pd(yz13, 1)};
-  double* p = y + 3 * a;
-  for (int m = 0; m < 4; ++m) {
-    _mm256_storeu_pd(p + 6 * m, _mm256_add_pd(_mm256_loadu_pd(p + 6 * m), first[m]));
-    _mm_storeu_pd(p + 6 * m + 4, _mm_add_pd(_mm_loadu_pd(p + 6 * m + 4), second[m]));
-  }
-}
-/// x_a - x_b of a TwoApartPairs group (rows a, a+2; a+1, a+3; a+4, a+6; a+5, a+7): rows a, a+1
-/// minus rows a+2, a+3 are six values in a row, (dx0 dy0 dz0 dx1) and (dy1 dz1), the same from a+4.
-__attribute__((target("avx2"), always_inline)) inline void load_two_apart_differences_avx2(const double* x, int a,
-                                                                                           __m256d& dx, __m256d& dy,
-                                                                                           __m256d& dz) {
-  const double* p = x + 3 * a;
-  const __m256d first = _mm256_sub_pd(_mm256_loadu_pd(p), _mm256_loadu_pd(p + 6));
-  const __m256d third = _mm256_sub_pd(_mm256_loadu_pd(p + 12), _mm256_loadu_pd(p + 18));
-  const __m128d second = _mm_sub_pd(_mm_loadu_pd(p + 4), _mm_loadu_pd(p + 10));
-  const __m128d fourth = _mm_sub_pd(_mm_loadu_pd(p + 16), _mm_loadu_pd(p + 22));
-  const __m256d lo = _mm256_permute2f128_pd(first, third, 0x20);  // (dx0 dy0 dx2 dy2)
-  const __m256d hi = _mm256_permute2f128_pd(first, third, 0x31);  // (dz0 dx1 dz2 dx3)
-  const __m256d tails = _mm256_insertf128_pd(_mm256_castpd128_pd256(second), fourth, 1);  // (dy1 dz1 dy3 dz3)
-  dx = _mm256_blend_pd(lo, hi, 0b1010);
-  dy = _mm256_shuffle_pd(lo, tails, 0b0101);
-  dz = _mm256_shuffle_pd(hi, tails, 0b1010);
-}
-/// y_a += t and y_b -= t for a TwoApartPairs group: the inverse of the load's transpose, then the
-/// six values of rows a, a+1 (and a+4, a+5) added and those of rows a+2, a+3 (a+6, a+7) subtracted.
-__attribute__((target("avx2"), always_inline)) inline void update_two_apart_pairs_avx2(double* y, int a, __m256d tx,
-                                                                                       __m256d ty, __m256d tz) {
-  const __m256d lo = _mm256_unpacklo_pd(tx, ty);        // (tx0 ty0 tx2 ty2)
-  const __m256d hi = _mm256_shuffle_pd(tz, tx, 0b1010);  // (tz0 tx1 tz2 tx3)
-  const __m256d first = _mm256_permute2f128_pd(lo, hi, 0x20), third = _mm256_permute2f128_pd(lo, hi, 0x31);
-  const __m256d tails = _mm256_unpackhi_pd(ty, tz);  // (ty1 tz1 ty3 tz3)
-  const __m128d second = _mm256_castpd256_pd128(tails), fourth = _mm256_extractf128_pd(tails, 1);
-  double* p = y + 3 * a;
-  _mm256_storeu_pd(p, _mm256_add_pd(_mm256_loadu_pd(p), first));
-  _mm_storeu_pd(p + 4, _mm_add_pd(_mm_loadu_pd(p + 4), second));
-  _mm256_storeu_pd(p + 6, _mm256_sub_pd(_mm256_loadu_pd(p + 6), first));
-  _mm_storeu_pd(p + 10, _mm_sub_pd(_mm_loadu_pd(p + 10), second));
-  _mm256_storeu_pd(p + 12, _mm256_add_pd(_mm256_loadu_pd(p + 12), third));
-  _mm_storeu_pd(p + 16, _mm_add_pd(_mm_loadu_pd(p + 16), fourth));
-  _mm256_storeu_pd(p + 18, _mm256_sub_pd(_mm256_loadu_pd(p + 18), third));
-  _mm_storeu_pd(p + 22, _mm_sub_pd(_mm_loadu_pd(p + 22), fourth));
-}
-}  // namespace detail
-
 // The vector version does the scalar one's operations in the same order (no fused multiply-add),
-// so both give the same bits.
+// so both give the same bits. The loads and stores of each group shape are edge_operator_avx2.hpp's,
+// for the lanes of each scalar type; the arithmetic is row_avx2.hpp's.
 template <class Scalar>
-__attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_products_avx2(const double* x,
-                                                                                            double* y) const {
+__attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_products_avx2(const Scalar* x,
+                                                                                            Scalar* y) const {
+  using Lanes = typename detail::Lanes4Avx2<Scalar>::type;  // the four edges of a group
+  using detail::add_avx2;
+  using detail::load4_avx2;
+  using detail::mul_avx2;
   const int* er = m_edge_rows.data();
-  using detail::load_row_avx2;
-  using detail::update_row_avx2;
   const GroupShape* shapes = m_group_shape.data();
   const int colours = static_cast<int>(m_colour_begin.size()) - 1;
   for (int k = 0; k < colours; ++k) {
@@ -440,253 +307,32 @@ __attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_pr
       const int* rows = er + 2 * group * g;
       const GroupShape shape = shapes[g];
       // d = x_a - x_b of the four edges, one vector per component.
-      __m256d dx, dy, dz;
+      Lanes dx, dy, dz;
       if (shape == GroupShape::Consecutive) {
         detail::load_consecutive_differences_avx2(x, rows[0], rows[1], dx, dy, dz);
       } else if (shape == GroupShape::AdjacentPairs) {
         detail::load_adjacent_pair_differences_avx2(x, rows[0], dx, dy, dz);
       } else if (shape == GroupShape::TwoApartPairs) {
         detail::load_two_apart_differences_avx2(x, rows[0], dx, dy, dz);
-      } else {  // gathered row by row, then transposed
-        detail::transpose_differences_avx2(_mm256_sub_pd(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1])),
-                                           _mm256_sub_pd(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3])),
-                                           _mm256_sub_pd(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5])),
-                                           _mm256_sub_pd(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7])), dx,
-                                           dy, dz);
-      }
-      // Unaligned loads: a std::vector is only 16-byte aligned (an aligned load would fault).
-      const double* c = m_values.data() + std::size_t(6 * group) * std::size_t(g);  // value_index(4 g, 0, 6)
-      const __m256d c0 = _mm256_loadu_pd(c), c1 = _mm256_loadu_pd(c + 4), c2 = _mm256_loadu_pd(c + 8);
-      const __m256d c3 = _mm256_loadu_pd(c + 12), c4 = _mm256_loadu_pd(c + 16), c5 = _mm256_loadu_pd(c + 20);
-      const __m256d tx =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c0, dx), _mm256_mul_pd(c1, dy)), _mm256_mul_pd(c3, dz));
-      const __m256d ty =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c1, dx), _mm256_mul_pd(c2, dy)), _mm256_mul_pd(c4, dz));
-      const __m256d tz =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c3, dx), _mm256_mul_pd(c4, dy)), _mm256_mul_pd(c5, dz));
-      if (shape == GroupShape::Consecutive) {
-        detail::update_consecutive_rows_avx2(y, rows[0], rows[1], tx, ty, tz);
-        continue;
-      }
-      if (shape == GroupShape::AdjacentPairs) {
-        detail::update_adjacent_pairs_avx2(y, rows[0], tx, ty, tz);
-        continue;
-      }
-      if (shape == GroupShape::TwoApartPairs) {
-        detail::update_two_apart_pairs_avx2(y, rows[0], tx, ty, tz);
-        continue;
-      }
-      // Back to (tx, ty) pairs and tz per edge.
-      const __m256d txy02 = _mm256_unpacklo_pd(tx, ty), txy13 = _mm256_unpackhi_pd(tx, ty);
-      const __m128d tz01 = _mm256_castpd256_pd128(tz), tz23 = _mm256_extractf128_pd(tz, 1);
-      const __m128d pair[4] = {_mm256_castpd256_pd128(txy02), _mm256_castpd256_pd128(txy13),
-                               _mm256_extractf128_pd(txy02, 1), _mm256_extractf128_pd(txy13, 1)};
-      const __m128d z[4] = {tz01, _mm_unpackhi_pd(tz01, tz01), tz23, _mm_unpackhi_pd(tz23, tz23)};
-      for (int i = 0; i < group; ++i) {
-        update_row_avx2<true>(y, rows[2 * i], pair[i], z[i]);
-        update_row_avx2<false>(y, rows[2 * i + 1], pair[i], z[i]);
-      }
-    }
-    add_edge_range<true>(x, y, tail_begin, end);
-    team_barrier();
-  }
-}
-
-namespace detail {
-// The float twins of the helpers above (overloads by pointer type): four edges of a group in one
-// 128-bit vector, lanes and masks as in the double ones. Pairs of floats move as 64-bit halves, so
-// that no load or store reaches past the rows the group owns.
-
-/// Two floats at p as the low half of a vector (the high half zero).
-__attribute__((target("avx2"), always_inline)) inline __m128 load_pair_avx2(const float* p) {
-  return _mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(p));
-}
-/// Two floats at p and two at q as one vector (p0 p1 q0 q1).
-__attribute__((target("avx2"), always_inline)) inline __m128 load_pairs_avx2(const float* p, const float* q) {
-  return _mm_loadh_pi(load_pair_avx2(p), reinterpret_cast<const __m64*>(q));
-}
-/// Lanes 0, 1 of v to p and lanes 2, 3 to q: the inverse of load_pairs_avx2.
-__attribute__((target("avx2"), always_inline)) inline void store_pairs_avx2(float* p, float* q, __m128 v) {
-  _mm_storel_pi(reinterpret_cast<__m64*>(p), v);
-  _mm_storeh_pi(reinterpret_cast<__m64*>(q), v);
-}
-/// Row r of x as (x0, x1, x2, 0) from its three floats alone (row_avx2.hpp); zero for r < 0.
-__attribute__((target("avx2"), always_inline)) inline __m128 load_row_avx2(const float* x, int r) {
-  return r >= 0 ? load_row3_avx2(x + 3 * r) : _mm_setzero_ps();
-}
-/// y_r += (t0, t1, t2) (`Add`) or y_r -= them, t = (t0 t1 t2 unused); nothing for r < 0.
-template <bool Add>
-__attribute__((target("avx2"), always_inline)) inline void update_row_avx2(float* y, int r, __m128 t) {
-  if (r < 0) return;
-  const __m128 yv = load_row3_avx2(y + 3 * r);
-  store_row3_avx2(y + 3 * r, Add ? _mm_add_ps(yv, t) : _mm_sub_ps(yv, t), false);
-}
-/// load_consecutive_differences_avx2 for float: three whole loads per end (rows a..a+3 are twelve
-/// floats) and the same blends, the permutations in _mm_permute_ps's encoding (2 bits per lane).
-__attribute__((target("avx2"), always_inline)) inline void load_consecutive_differences_avx2(const float* x, int a,
-                                                                                             int b, __m128& dx,
-                                                                                             __m128& dy, __m128& dz) {
-  const float *xa = x + 3 * a, *xb = x + 3 * b;
-  // d0 = (x0 y0 z0 x1), d1 = (y1 z1 x2 y2), d2 = (z2 x3 y3 z3).
-  const __m128 d0 = _mm_sub_ps(_mm_loadu_ps(xa), _mm_loadu_ps(xb));
-  const __m128 d1 = _mm_sub_ps(_mm_loadu_ps(xa + 4), _mm_loadu_ps(xb + 4));
-  const __m128 d2 = _mm_sub_ps(_mm_loadu_ps(xa + 8), _mm_loadu_ps(xb + 8));
-  dx = _mm_permute_ps(_mm_blend_ps(_mm_blend_ps(d0, d1, 0b0100), d2, 0b0010), 0x6C);
-  dy = _mm_permute_ps(_mm_blend_ps(_mm_blend_ps(d0, d1, 0b1001), d2, 0b0100), 0xB1);  // swaps pairs
-  dz = _mm_permute_ps(_mm_blend_ps(_mm_blend_ps(d0, d1, 0b0010), d2, 0b1001), 0xC6);
-}
-/// update_consecutive_rows_avx2 for float: y_{a+i} += t_i, y_{b+i} -= t_i for i < 4.
-__attribute__((target("avx2"), always_inline)) inline void update_consecutive_rows_avx2(float* y, int a, int b,
-                                                                                        __m128 tx, __m128 ty,
-                                                                                        __m128 tz) {
-  const __m128 px = _mm_permute_ps(tx, 0x6C), py = _mm_permute_ps(ty, 0xB1), pz = _mm_permute_ps(tz, 0xC6);
-  const __m128 t0 = _mm_blend_ps(_mm_blend_ps(px, py, 0b0010), pz, 0b0100);  // (tx0 ty0 tz0 tx1)
-  const __m128 t1 = _mm_blend_ps(_mm_blend_ps(py, pz, 0b0010), px, 0b0100);  // (ty1 tz1 tx2 ty2)
-  const __m128 t2 = _mm_blend_ps(_mm_blend_ps(pz, px, 0b0010), py, 0b0100);  // (tz2 tx3 ty3 tz3)
-  float *ya = y + 3 * a, *yb = y + 3 * b;
-  _mm_storeu_ps(ya, _mm_add_ps(_mm_loadu_ps(ya), t0));
-  _mm_storeu_ps(ya + 4, _mm_add_ps(_mm_loadu_ps(ya + 4), t1));
-  _mm_storeu_ps(ya + 8, _mm_add_ps(_mm_loadu_ps(ya + 8), t2));
-  _mm_storeu_ps(yb, _mm_sub_ps(_mm_loadu_ps(yb), t0));
-  _mm_storeu_ps(yb + 4, _mm_sub_ps(_mm_loadu_ps(yb + 4), t1));
-  _mm_storeu_ps(yb + 8, _mm_sub_ps(_mm_loadu_ps(yb + 8), t2));
-}
-/// Four rows' differences (x, y, z, unused) as one vector per component (a 4 x 3 transpose).
-__attribute__((target("avx2"), always_inline)) inline void transpose_differences_avx2(__m128 d0, __m128 d1, __m128 d2,
-                                                                                      __m128 d3, __m128& dx,
-                                                                                      __m128& dy, __m128& dz) {
-  const __m128 lo01 = _mm_unpacklo_ps(d0, d1), lo23 = _mm_unpacklo_ps(d2, d3);  // (x0 x1 y0 y1), (x2 x3 y2 y3)
-  const __m128 hi01 = _mm_unpackhi_ps(d0, d1), hi23 = _mm_unpackhi_ps(d2, d3);  // (z0 z1 . .), (z2 z3 . .)
-  dx = _mm_movelh_ps(lo01, lo23);
-  dy = _mm_movehl_ps(lo23, lo01);
-  dz = _mm_movelh_ps(hi01, hi23);
-}
-/// load_adjacent_pair_differences_avx2 for float: nothing outside rows [a, a + 8) is read.
-__attribute__((target("avx2"), always_inline)) inline void load_adjacent_pair_differences_avx2(const float* x, int a,
-                                                                                               __m128& dx, __m128& dy,
-                                                                                               __m128& dz) {
-  const float* p = x + 3 * a;
-  __m128 d[4];
-  for (int m = 0; m < 4; ++m) {
-    // (xa ya za xb) minus (za xb yb zb) turned to (xb yb zb za).
-    const __m128 second = _mm_permute_ps(_mm_loadu_ps(p + 6 * m + 2), 0x39);
-    d[m] = _mm_sub_ps(_mm_loadu_ps(p + 6 * m), second);
-  }
-  transpose_differences_avx2(d[0], d[1], d[2], d[3], dx, dy, dz);
-}
-/// update_adjacent_pairs_avx2 for float: per edge (tx ty tz -tx) as one vector, and the (-ty -tz)
-/// of two edges as one vector of two halves.
-__attribute__((target("avx2"), always_inline)) inline void update_adjacent_pairs_avx2(float* y, int a, __m128 tx,
-                                                                                      __m128 ty, __m128 tz) {
-  const __m128 sign = _mm_set1_ps(-0.0f);
-  const __m128 ntx = _mm_xor_ps(tx, sign), nty = _mm_xor_ps(ty, sign), ntz = _mm_xor_ps(tz, sign);
-  const __m128 xy01 = _mm_unpacklo_ps(tx, ty), xy23 = _mm_unpackhi_ps(tx, ty);     // (tx0 ty0 tx1 ty1)
-  const __m128 zx01 = _mm_unpacklo_ps(tz, ntx), zx23 = _mm_unpackhi_ps(tz, ntx);   // (tz0 -tx0 tz1 -tx1)
-  const __m128 yz01 = _mm_unpacklo_ps(nty, ntz), yz23 = _mm_unpackhi_ps(nty, ntz);  // (-ty0 -tz0 -ty1 -tz1)
-  const __m128 first[4] = {_mm_movelh_ps(xy01, zx01), _mm_movehl_ps(zx01, xy01), _mm_movelh_ps(xy23, zx23),
-                           _mm_movehl_ps(zx23, xy23)};
-  float* p = y + 3 * a;
-  for (int m = 0; m < 4; ++m) _mm_storeu_ps(p + 6 * m, _mm_add_ps(_mm_loadu_ps(p + 6 * m), first[m]));
-  store_pairs_avx2(p + 4, p + 10, _mm_add_ps(load_pairs_avx2(p + 4, p + 10), yz01));
-  store_pairs_avx2(p + 16, p + 22, _mm_add_ps(load_pairs_avx2(p + 16, p + 22), yz23));
-}
-/// load_two_apart_differences_avx2 for float: (dx0 dy0 dz0 dx1) and (dx2 dy2 dz2 dx3) whole, the
-/// (dy1 dz1) and (dy3 dz3) of both halves of the window in one vector.
-__attribute__((target("avx2"), always_inline)) inline void load_two_apart_differences_avx2(const float* x, int a,
-                                                                                           __m128& dx, __m128& dy,
-                                                                                           __m128& dz) {
-  const float* p = x + 3 * a;
-  const __m128 first = _mm_sub_ps(_mm_loadu_ps(p), _mm_loadu_ps(p + 6));
-  const __m128 third = _mm_sub_ps(_mm_loadu_ps(p + 12), _mm_loadu_ps(p + 18));
-  const __m128 tails = _mm_sub_ps(load_pairs_avx2(p + 4, p + 16), load_pairs_avx2(p + 10, p + 22));
-  const __m128 lo = _mm_movelh_ps(first, third);  // (dx0 dy0 dx2 dy2)
-  const __m128 hi = _mm_movehl_ps(third, first);  // (dz0 dx1 dz2 dx3)
-  dx = _mm_blend_ps(lo, hi, 0b1010);
-  // (dy0 dy2 dy1 dy3), then lanes 1 and 2 swapped.
-  dy = _mm_permute_ps(_mm_shuffle_ps(lo, tails, _MM_SHUFFLE(2, 0, 3, 1)), _MM_SHUFFLE(3, 1, 2, 0));
-  dz = _mm_blend_ps(hi, tails, 0b1010);
-}
-/// update_two_apart_pairs_avx2 for float: the inverse of the load's transpose, rows a, a+1 (and
-/// a+4, a+5) added to and rows a+2, a+3 (a+6, a+7) subtracted from.
-__attribute__((target("avx2"), always_inline)) inline void update_two_apart_pairs_avx2(float* y, int a, __m128 tx,
-                                                                                       __m128 ty, __m128 tz) {
-  const __m128 swapped_ty = _mm_permute_ps(ty, 0xB1);       // (ty1 ty0 ty3 ty2)
-  const __m128 lo = _mm_blend_ps(tx, swapped_ty, 0b1010);   // (tx0 ty0 tx2 ty2)
-  const __m128 hi = _mm_blend_ps(tz, tx, 0b1010);           // (tz0 tx1 tz2 tx3)
-  const __m128 tails = _mm_blend_ps(swapped_ty, tz, 0b1010);  // (ty1 tz1 ty3 tz3)
-  const __m128 first = _mm_movelh_ps(lo, hi), third = _mm_movehl_ps(hi, lo);
-  float* p = y + 3 * a;
-  _mm_storeu_ps(p, _mm_add_ps(_mm_loadu_ps(p), first));
-  _mm_storeu_ps(p + 6, _mm_sub_ps(_mm_loadu_ps(p + 6), first));
-  _mm_storeu_ps(p + 12, _mm_add_ps(_mm_loadu_ps(p + 12), third));
-  _mm_storeu_ps(p + 18, _mm_sub_ps(_mm_loadu_ps(p + 18), third));
-  store_pairs_avx2(p + 4, p + 16, _mm_add_ps(load_pairs_avx2(p + 4, p + 16), tails));
-  store_pairs_avx2(p + 10, p + 22, _mm_sub_ps(load_pairs_avx2(p + 10, p + 22), tails));
-}
-}  // namespace detail
-
-// As the double version: the scalar loop's operations in its order, so the same bits.
-template <class Scalar>
-__attribute__((target("avx2"))) void EdgeOperator<Scalar>::add_symmetric_edge_products_avx2(const float* x,
-                                                                                            float* y) const {
-  const int* er = m_edge_rows.data();
-  using detail::load_row_avx2;
-  using detail::update_row_avx2;
-  const GroupShape* shapes = m_group_shape.data();
-  const int colours = static_cast<int>(m_colour_begin.size()) - 1;
-  for (int k = 0; k < colours; ++k) {
-    const auto share = even_share(m_colour_begin[k + 1] - m_colour_begin[k], team_rank(), team_size());
-    const int begin = m_colour_begin[k] + int(share.first), end = m_colour_begin[k] + int(share.second);
-    // Whole groups [first_group, end_group), the edges before and after them one by one.
-    const int first_group = (begin + group - 1) / group, end_group = end / group;
-    const int head_end = std::min(end, first_group * group), tail_begin = std::max(head_end, end_group * group);
-    add_edge_range<true>(x, y, begin, head_end);
-    for (int g = first_group; g < end_group; ++g) {
-      const int* rows = er + 2 * group * g;
-      const GroupShape shape = shapes[g];
-      // d = x_a - x_b of the four edges, one vector per component.
-      __m128 dx, dy, dz;
-      if (shape == GroupShape::Consecutive) {
-        detail::load_consecutive_differences_avx2(x, rows[0], rows[1], dx, dy, dz);
-      } else if (shape == GroupShape::AdjacentPairs) {
-        detail::load_adjacent_pair_differences_avx2(x, rows[0], dx, dy, dz);
-      } else if (shape == GroupShape::TwoApartPairs) {
-        detail::load_two_apart_differences_avx2(x, rows[0], dx, dy, dz);
-      } else {  // gathered row by row, then transposed
-        detail::transpose_differences_avx2(_mm_sub_ps(load_row_avx2(x, rows[0]), load_row_avx2(x, rows[1])),
-                                           _mm_sub_ps(load_row_avx2(x, rows[2]), load_row_avx2(x, rows[3])),
-                                           _mm_sub_ps(load_row_avx2(x, rows[4]), load_row_avx2(x, rows[5])),
-                                           _mm_sub_ps(load_row_avx2(x, rows[6]), load_row_avx2(x, rows[7])), dx, dy,
-                                           dz);
+      } else {
+        detail::load_gathered_differences_avx2(x, rows, dx, dy, dz);
       }
       // The group's 24 values, value k of the four edges in the k-th vector (value_index(4 g, k, 6)).
-      const float* c = m_values.data() + std::size_t(6 * group) * std::size_t(g);
-      const __m128 c0 = _mm_loadu_ps(c), c1 = _mm_loadu_ps(c + 4), c2 = _mm_loadu_ps(c + 8);
-      const __m128 c3 = _mm_loadu_ps(c + 12), c4 = _mm_loadu_ps(c + 16), c5 = _mm_loadu_ps(c + 20);
-      const __m128 tx = _mm_add_ps(_mm_add_ps(_mm_mul_ps(c0, dx), _mm_mul_ps(c1, dy)), _mm_mul_ps(c3, dz));
-      const __m128 ty = _mm_add_ps(_mm_add_ps(_mm_mul_ps(c1, dx), _mm_mul_ps(c2, dy)), _mm_mul_ps(c4, dz));
-      const __m128 tz = _mm_add_ps(_mm_add_ps(_mm_mul_ps(c3, dx), _mm_mul_ps(c4, dy)), _mm_mul_ps(c5, dz));
+      // Unaligned loads: a std::vector is only 16-byte aligned (an aligned load would fault).
+      const Scalar* c = m_values.data() + std::size_t(6 * group) * std::size_t(g);
+      const Lanes c0 = load4_avx2(c), c1 = load4_avx2(c + 4), c2 = load4_avx2(c + 8);
+      const Lanes c3 = load4_avx2(c + 12), c4 = load4_avx2(c + 16), c5 = load4_avx2(c + 20);
+      const Lanes tx = add_avx2(add_avx2(mul_avx2(c0, dx), mul_avx2(c1, dy)), mul_avx2(c3, dz));
+      const Lanes ty = add_avx2(add_avx2(mul_avx2(c1, dx), mul_avx2(c2, dy)), mul_avx2(c4, dz));
+      const Lanes tz = add_avx2(add_avx2(mul_avx2(c3, dx), mul_avx2(c4, dy)), mul_avx2(c5, dz));
       if (shape == GroupShape::Consecutive) {
         detail::update_consecutive_rows_avx2(y, rows[0], rows[1], tx, ty, tz);
-        continue;
-      }
-      if (shape == GroupShape::AdjacentPairs) {
+      } else if (shape == GroupShape::AdjacentPairs) {
         detail::update_adjacent_pairs_avx2(y, rows[0], tx, ty, tz);
-        continue;
-      }
-      if (shape == GroupShape::TwoApartPairs) {
+      } else if (shape == GroupShape::TwoApartPairs) {
         detail::update_two_apart_pairs_avx2(y, rows[0], tx, ty, tz);
-        continue;
-      }
-      // Back to (tx ty tz 0) per edge: a 4 x 4 transpose with a zero fourth row.
-      const __m128 zero = _mm_setzero_ps();
-      const __m128 xy01 = _mm_unpacklo_ps(tx, ty), xy23 = _mm_unpackhi_ps(tx, ty);  // (tx0 ty0 tx1 ty1)
-      const __m128 z01 = _mm_unpacklo_ps(tz, zero), z23 = _mm_unpackhi_ps(tz, zero);  // (tz0 0 tz1 0)
-      const __m128 t[4] = {_mm_movelh_ps(xy01, z01), _mm_movehl_ps(z01, xy01), _mm_movelh_ps(xy23, z23),
-                           _mm_movehl_ps(z23, xy23)};
-      for (int i = 0; i < group; ++i) {
-        update_row_avx2<true>(y, rows[2 * i], t[i]);
-        update_row_avx2<false>(y, rows[2 * i + 1], t[i]);
+      } else {
+        detail::update_gathered_rows_avx2(y, rows, tx, ty, tz);
       }
     }
     add_edge_range<true>(x, y, tail_begin, end);

@@ -38,9 +38,9 @@
 #include <Eigen/Geometry>
 
 #include "drape/core/force_term.hpp"
-#include "drape/core/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/physics/wind_field.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 

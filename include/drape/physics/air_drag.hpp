@@ -11,9 +11,9 @@
 #include <string>
 
 #include "drape/core/force_term.hpp"
-#include "drape/core/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/physics/wind_field.hpp"
+#include "drape/platform/team.hpp"
 
 namespace drape {
 

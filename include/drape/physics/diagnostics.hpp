@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/physics/spring_kernel.hpp"
 

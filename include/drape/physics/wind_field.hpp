@@ -15,9 +15,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "drape/core/sine.hpp"
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
+#include "drape/platform/sine.hpp"
 
 namespace drape {
 

@@ -1,8 +1,8 @@
 #pragma once
 /// \file cloth_scene.hpp
 /// Several cloths in one scene, stepped together. Each cloth keeps its own model (grid, springs,
-/// pins, colliders, placement: core/cloth.hpp) and its own integrator; one step advances every
-/// cloth by the same dt, then one collision handler (physics/self_collision.hpp) treats all the
+/// pins, colliders, placement: model/cloth.hpp) and its own integrator; one step advances every
+/// cloth by the same dt, then one collision handler (contact/self_collision.hpp) treats all the
 /// cloths as one mesh: contacts within a cloth and between cloths are the same pairs, found by
 /// one hierarchy, resolved by the same three stages. The handler runs after each cloth's step
 /// and its colliders, as it does inside a single cloth's step, so a scene of one cloth with
@@ -14,9 +14,9 @@
 #include <memory>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
+#include "drape/contact/self_collision.hpp"
 #include "drape/integrators/make_integrator.hpp"
-#include "drape/physics/self_collision.hpp"
+#include "drape/model/cloth.hpp"
 
 namespace drape {
 

@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-#include "drape/core/team.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/block_jacobi.hpp"
 #include "drape/solvers/linear_solver.hpp"
 #include "drape/solvers/solver_kind.hpp"

@@ -12,9 +12,9 @@
 
 #include <string>
 
-#include "drape/core/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/linalg/linear_system.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/preconditioner.hpp"
 #include "drape/solvers/solve_status.hpp"
 

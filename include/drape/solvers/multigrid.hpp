@@ -32,9 +32,9 @@
 #include <vector>
 
 #include "drape/config.hpp"
-#include "drape/core/team.hpp"
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/block_jacobi.hpp"
 #include "drape/solvers/dense_cholesky.hpp"
 #include "drape/solvers/multigrid_hierarchy.hpp"

@@ -29,16 +29,13 @@
 
 #include <Eigen/SparseCore>
 
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/team.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/linalg/block_sparse_matrix.hpp"
 #include "drape/linalg/grid_layout.hpp"
-#include "drape/linalg/row_avx2.hpp"
-
-#if DRAPE_AVX2_DISPATCH
-#include <immintrin.h>
-#endif
+#include "drape/platform/instruction_set.hpp"
+#include "drape/platform/team.hpp"
+#include "drape/solvers/detail/coarse_block.hpp"
+#include "drape/solvers/detail/multigrid_hierarchy_avx2.hpp"
 
 namespace drape {
 
@@ -156,108 +153,6 @@ inline CoarseAxis coarsen_axis(int n) {
 }
 
 }  // namespace detail
-
-namespace detail {
-/// Coarse block `cb` = s (9 values, column-major) and, unless it is on the diagonal, its mirror
-/// block transposed[cb] = s^T: the Galerkin sums compute the blocks on or above the diagonal only.
-template <class Scalar>
-inline void store_coarse_block(const Scalar* s, int cb, const int* transposed, Scalar* coarse) {
-  Scalar* c = coarse + 9 * cb;
-  for (int q = 0; q < 9; ++q) c[q] = s[q];
-  const int ct = transposed[cb];
-  if (ct != cb) {
-    Scalar* t = coarse + 9 * ct;
-    for (int col = 0; col < 3; ++col)
-      for (int row = 0; row < 3; ++row) t[3 * col + row] = s[3 * row + col];
-  }
-}
-}  // namespace detail
-
-#if DRAPE_AVX2_DISPATCH
-namespace detail {
-/// MultigridHierarchy::galerkin() from double fine blocks with AVX2, coarse blocks upper[u] for u in
-/// [begin, end): values 0-3 and 4-7 of the nine as two vectors, the ninth alone, each summed over
-/// the fine blocks in the same order as the baseline loop (no FMA): the same bits. `Weight` and
-/// `Out` are double, or float for the float hierarchy's level 1 summed from the double matrix
-/// (single_precision_multigrid.hpp): the float weights widened, the sums rounded once at the store.
-template <class Weight, class Out>
-__attribute__((target("avx2"))) inline void galerkin_blocks_avx2(const int* upper, const int* g_begin,
-                                                                 const int* g_block, const Weight* g_weight,
-                                                                 const int* transposed, const double* fine,
-                                                                 Out* coarse, int begin, int end) {
-  for (int u = begin; u < end; ++u) {
-    __m256d s0 = _mm256_setzero_pd(), s1 = _mm256_setzero_pd();
-    double s8 = 0;
-    for (int e = g_begin[u]; e < g_begin[u + 1]; ++e) {
-      const double weight = static_cast<double>(g_weight[e]);
-      const __m256d w = _mm256_set1_pd(weight);
-      const double* f = fine + 9 * g_block[e];
-      s0 = _mm256_add_pd(s0, _mm256_mul_pd(w, _mm256_loadu_pd(f)));
-      s1 = _mm256_add_pd(s1, _mm256_mul_pd(w, _mm256_loadu_pd(f + 4)));
-      s8 += weight * f[8];
-    }
-    alignas(32) Out s[9];
-    if constexpr (std::is_same_v<Out, double>) {
-      _mm256_store_pd(s, s0);
-      _mm256_storeu_pd(s + 4, s1);
-    } else {
-      _mm_store_ps(s, _mm256_cvtpd_ps(s0));
-      _mm_storeu_ps(s + 4, _mm256_cvtpd_ps(s1));
-    }
-    s[8] = static_cast<Out>(s8);
-    store_coarse_block(s, upper[u], transposed, coarse);
-  }
-}
-
-/// The float twin: values 0-7 as one vector, the ninth alone, each summed in the baseline's order.
-__attribute__((target("avx2"))) inline void galerkin_blocks_avx2(const int* upper, const int* g_begin,
-                                                                 const int* g_block, const float* g_weight,
-                                                                 const int* transposed, const float* fine,
-                                                                 float* coarse, int begin, int end) {
-  for (int u = begin; u < end; ++u) {
-    __m256 s07 = _mm256_setzero_ps();
-    float ninth = 0;
-    for (int e = g_begin[u]; e < g_begin[u + 1]; ++e) {
-      const float* f = fine + 9 * g_block[e];
-      s07 = _mm256_add_ps(s07, _mm256_mul_ps(_mm256_broadcast_ss(g_weight + e), _mm256_loadu_ps(f)));
-      ninth += g_weight[e] * f[8];
-    }
-    alignas(32) float s[9];
-    _mm256_store_ps(s, s07);
-    s[8] = ninth;
-    store_coarse_block(s, upper[u], transposed, coarse);
-  }
-}
-
-/// MultigridHierarchy's transfers for double with AVX2, rows [begin, end) of `to`: the weighted sum
-/// of `from`'s rows [index_begin[r], index_begin[r + 1]) of (index_row, index_weight), stored
-/// (`add` false: restriction) or added (prolongation); the baseline's order, no FMA.
-__attribute__((target("avx2"))) inline void transfer_rows_avx2(const int* index_begin, const int* index_row,
-                                                               const double* index_weight, const double* from,
-                                                               double* to, bool add, int begin, int end) {
-  for (int r = begin; r < end; ++r) {
-    __m256d s = _mm256_setzero_pd();
-    for (int e = index_begin[r]; e < index_begin[r + 1]; ++e) {
-      const __m256d v = load_row3_avx2(from + 3 * index_row[e]);
-      s = _mm256_add_pd(s, _mm256_mul_pd(_mm256_broadcast_sd(index_weight + e), v));
-    }
-    store_row3_avx2(to + 3 * r, s, add);
-  }
-}
-
-/// The float twin: a row's three values in one `__m128`.
-__attribute__((target("avx2"))) inline void transfer_rows_avx2(const int* index_begin, const int* index_row,
-                                                               const float* index_weight, const float* from, float* to,
-                                                               bool add, int begin, int end) {
-  for (int r = begin; r < end; ++r) {
-    __m128 s = _mm_setzero_ps();
-    for (int e = index_begin[r]; e < index_begin[r + 1]; ++e)
-      s = _mm_add_ps(s, _mm_mul_ps(_mm_broadcast_ss(index_weight + e), load_row3_avx2(from + 3 * index_row[e])));
-    store_row3_avx2(to + 3 * r, s, add);
-  }
-}
-}  // namespace detail
-#endif
 
 namespace detail {
 /// Blocks of one matrix as fixed weighted sums of another's: block upper[u] (on or above the

@@ -25,8 +25,8 @@
 #include <memory>
 #include <type_traits>
 
-#include "drape/core/team.hpp"
 #include "drape/linalg/block3.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/block_jacobi.hpp"
 #include "drape/solvers/linear_solver.hpp"
 #include "drape/solvers/multigrid.hpp"

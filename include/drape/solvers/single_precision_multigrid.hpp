@@ -25,8 +25,8 @@
 
 #include <vector>
 
-#include "drape/core/team.hpp"
 #include "drape/linalg/linear_system.hpp"
+#include "drape/platform/team.hpp"
 #include "drape/solvers/multigrid.hpp"
 #include "drape/solvers/preconditioner.hpp"
 

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <limits>
 
-#include "drape/core/cloth.hpp"
+#include "drape/model/cloth.hpp"
 
 namespace drape::viewer {
 

@@ -16,7 +16,7 @@
 #include <cmath>
 #include <vector>
 
-#include "drape/core/collider.hpp"
+#include "drape/contact/collider.hpp"
 #include "drape/viewer/camera.hpp"
 #include "drape/viewer/solid_mesh.hpp"
 

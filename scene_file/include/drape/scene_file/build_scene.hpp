@@ -9,7 +9,7 @@
 #include <optional>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/fwd.hpp"
 #include "drape/scene_file/settings.hpp"
 #include "drape/viewer/camera.hpp"

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
+#include "drape/model/cloth.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/core/pin_path.hpp"
 #include "drape/fwd.hpp"

@@ -4,19 +4,17 @@
 /// (grid, springs, pins, gravity and any further force terms), shared read-only by the assemblers
 /// and integrators. The time step belongs to the integrator (integrators/integrator.hpp).
 
-#include <algorithm>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
 
-#include "drape/core/collider.hpp"
+#include "drape/contact/collider.hpp"
+#include "drape/contact/self_collision_settings.hpp"
 #include "drape/core/force_term.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/pins.hpp"
 #include "drape/core/placement.hpp"
-#include "drape/core/self_collision_settings.hpp"
 #include "drape/core/spring_set.hpp"
 #include "drape/core/state.hpp"
 
@@ -38,11 +36,11 @@ struct ClothSpec {
   std::optional<std::vector<int>> pinned_nodes;
   /// Forces besides springs and gravity (core/force_term.hpp); none by default.
   std::vector<std::shared_ptr<const ForceTerm<Scalar>>> force_terms;
-  /// Rigid bodies the cloth collides with (core/collider.hpp); none by default.
+  /// Rigid bodies the cloth collides with (contact/collider.hpp); none by default.
   std::vector<Collider<Scalar>> colliders;
   /// m: the cloth's half-thickness; nodes rest this far from a collider's surface.
   Scalar contact_thickness = Scalar(0.005);
-  /// The cloth against itself (core/self_collision_settings.hpp); off by default.
+  /// The cloth against itself (contact/self_collision_settings.hpp); off by default.
   SelfCollisionSettings<Scalar> self_collision;
   /// Where the flat grid starts (core/placement.hpp); by default node 0 at the origin, in the x-z plane.
   Placement<Scalar> placement;
@@ -95,10 +93,8 @@ class Cloth {
   /// How the cloth collides with itself.
   const SelfCollisionSettings<Scalar>& self_collision() const { return m_self_collision; }
   /// m: how much deeper than the thickness a node may end a step before the end-of-step check
-  /// pushes it out (physics/contact_handler.hpp): 1% of the thickness, or rounding.
-  Scalar contact_tolerance() const {
-    return std::max(Scalar(0.01) * m_contact_thickness, Scalar(64) * std::numeric_limits<Scalar>::epsilon());
-  }
+  /// pushes it out (contact/contact_handler.hpp): 1% of the thickness, or rounding.
+  Scalar contact_tolerance() const { return detail::contact_tolerance(m_contact_thickness); }
 
   /// Node positions at the start: the flat grid, placed.
   const Matrix3X<Scalar>& start_positions() const { return m_start_positions; }

@@ -15,8 +15,7 @@
 
 #include <Eigen/Core>
 
-#include "drape/core/instruction_set.hpp"
-#include "drape/core/types.hpp"
+#include "drape/platform/instruction_set.hpp"
 
 namespace drape::detail {
 
@@ -27,9 +26,9 @@ using Float4 = float __attribute__((vector_size(16)));
 
 /// Baseline: SSE2's sqrtpd and SSE's sqrtps.
 template <class Scalar>
-inline void sqrt_in_place(Scalar* a, Index n) {
-  constexpr Index lanes = 16 / sizeof(Scalar);
-  Index j = 0;
+inline void sqrt_in_place(Scalar* a, Eigen::Index n) {
+  constexpr Eigen::Index lanes = 16 / sizeof(Scalar);
+  Eigen::Index j = 0;
   for (; j + lanes <= n; j += lanes) {
     if constexpr (sizeof(Scalar) == 8) {
       Double2 p;
@@ -50,7 +49,7 @@ inline void sqrt_in_place(Scalar* a, Index n) {
 
 /// Other platforms: Eigen's packet sqrt (exact for double; for float Eigen may approximate).
 template <class Scalar>
-inline void sqrt_in_place(Scalar* a, Index n) {
+inline void sqrt_in_place(Scalar* a, Eigen::Index n) {
   Eigen::Map<Eigen::Array<Scalar, Eigen::Dynamic, 1> > m(a, n);
   m = m.sqrt();
 }

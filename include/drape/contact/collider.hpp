@@ -94,6 +94,15 @@ struct ColliderHold {
   bool held() const { return normal.squaredNorm() > 0; }
 };
 
+namespace detail {
+/// m: how much deeper than the contact thickness h a node may end a step before the end-of-step
+/// check pushes it out (contact_handler.hpp): 1% of h, or rounding.
+template <class Scalar>
+Scalar contact_tolerance(Scalar contact_thickness) {
+  return std::max(Scalar(0.01) * contact_thickness, Scalar(64) * std::numeric_limits<Scalar>::epsilon());
+}
+}  // namespace detail
+
 /// A rigid shape the cloth cannot enter. Each shape is defined in its local frame, which the
 /// motion's pose places in the world:
 ///  - plane: the half-space y <= 0 (outward normal +y);

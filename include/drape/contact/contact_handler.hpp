@@ -32,8 +32,8 @@
 #include <limits>
 #include <vector>
 
-#include "drape/core/cloth.hpp"
-#include "drape/core/collider.hpp"
+#include "drape/contact/collider.hpp"
+#include "drape/core/types.hpp"
 #include "drape/linalg/linear_system.hpp"
 
 namespace drape {
@@ -57,21 +57,31 @@ struct ContactReport {
 template <class Scalar = double>
 class ContactHandler {
  public:
-  explicit ContactHandler(const Cloth<Scalar>& cloth)
-      : m_cloth(&cloth),
-        m_slot(static_cast<std::size_t>(cloth.node_count()), -1),
-        m_let_go(static_cast<std::size_t>(cloth.node_count()), -1) {}
-  ContactHandler(const Cloth<Scalar>&& cloth) = delete;
+  /// The nodes of `masses` (a mass per node) against `colliders`, resting `contact_thickness` from
+  /// their surfaces: a cloth's `colliders()`, `contact_thickness()` and `grid().masses()`. Keeps
+  /// references to the colliders and the masses; temporaries would dangle.
+  ContactHandler(const std::vector<Collider<Scalar>>& colliders, Scalar contact_thickness,
+                 const VectorX<Scalar>& masses)
+      : m_colliders(&colliders),
+        m_masses(&masses),
+        m_thickness(contact_thickness),
+        m_tolerance(detail::contact_tolerance(contact_thickness)),
+        m_slot(static_cast<std::size_t>(masses.size()), -1),
+        m_let_go(static_cast<std::size_t>(masses.size()), -1) {}
+  ContactHandler(const std::vector<Collider<Scalar>>&& colliders, Scalar contact_thickness,
+                 const VectorX<Scalar>& masses) = delete;
+  ContactHandler(const std::vector<Collider<Scalar>>& colliders, Scalar contact_thickness,
+                 const VectorX<Scalar>&& masses) = delete;
 
   /// True if the scene has colliders (everything below is then a no-op otherwise).
-  bool active() const { return !m_cloth->colliders().empty(); }
+  bool active() const { return !m_colliders->empty(); }
   const ContactReport<Scalar>& report() const { return m_report; }
   /// After respond(): how the collider node `i` touches this step holds it (not held: zero normal).
   ColliderHold<Scalar> hold(int i) const {
     const int slot = m_slot[static_cast<std::size_t>(i)];
     if (slot < 0) return {};
     const Contact& contact = m_contacts[static_cast<std::size_t>(slot)];
-    return {contact.normal, m_cloth->colliders()[static_cast<std::size_t>(contact.collider)].static_friction()};
+    return {contact.normal, (*m_colliders)[static_cast<std::size_t>(contact.collider)].static_friction()};
   }
 
   /// Implicit step, before the first solve: the nodes that touch a collider, or would reach one
@@ -134,7 +144,10 @@ class ContactHandler {
   /// Coulomb friction on a node in contact (its velocity, in place), and the report's totals.
   void apply_friction(const Contact& contact, Vec3<Scalar>& velocity, Scalar mass, Scalar dt);
 
-  const Cloth<Scalar>* m_cloth;
+  const std::vector<Collider<Scalar>>* m_colliders;
+  const VectorX<Scalar>* m_masses;  // per node
+  Scalar m_thickness;               // h: nodes rest this far from a collider's surface
+  Scalar m_tolerance;               // how much deeper than h a node may end a step
   std::vector<Contact> m_contacts;  // this step's
   std::vector<Contact> m_kept;      // scratch of revise()
   std::vector<int> m_slot;          // per node: index into m_contacts, -1 if none
@@ -150,7 +163,7 @@ class ContactHandler {
 
 template <class Scalar>
 void ContactHandler<Scalar>::bound(Scalar t, Scalar dt) {
-  const auto& colliders = m_cloth->colliders();
+  const std::vector<Collider<Scalar>>& colliders = *m_colliders;
   m_bounds.resize(colliders.size());
   for (std::size_t k = 0; k < colliders.size(); ++k) {
     const RigidMotion<Scalar>& motion = colliders[k].motion();
@@ -172,7 +185,7 @@ bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<
                                    Contact& out) const {
   Scalar first = 2;
   int hit = -1;
-  const auto& colliders = m_cloth->colliders();
+  const std::vector<Collider<Scalar>>& colliders = *m_colliders;
   const Vec3<Scalar> middle = Scalar(0.5) * (x0 + x1);
   const Scalar half_travel = Scalar(0.5) * (x1 - x0).norm();
   for (std::size_t k = 0; k < colliders.size(); ++k) {
@@ -187,7 +200,7 @@ bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<
   const ColliderContact<Scalar> q =
       colliders[static_cast<std::size_t>(hit)].query(x0, m_bounds[std::size_t(hit)].start);
   out = {node,     hit,        -1,
-         q.normal, q.velocity, q.normal.dot(q.velocity) + (m_cloth->contact_thickness() - q.distance) / dt,
+         q.normal, q.velocity, q.normal.dot(q.velocity) + (m_thickness - q.distance) / dt,
          Scalar(0)};
   return true;
 }
@@ -222,7 +235,7 @@ void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstR
   bound(t, dt);
   // A node resting on a surface sits at d = h up to rounding: a small margin keeps it constrained
   // instead of letting it fall in and be caught by a second solve.
-  const Scalar h = m_cloth->contact_thickness();
+  const Scalar h = m_thickness;
   const Scalar margin = Scalar(0.05) * h + Scalar(16) * std::numeric_limits<Scalar>::epsilon();
   for (Index i = 0; i < x.cols(); ++i) {
     const int node = static_cast<int>(i);
@@ -273,7 +286,7 @@ bool ContactHandler<Scalar>::revise(const LinearSystem<Scalar>& system, const Ve
   m_contacts.swap(kept);
   for (std::size_t k = 0; k < m_contacts.size(); ++k) m_slot[static_cast<std::size_t>(m_contacts[k].node)] = int(k);
   // Nodes whose new path reaches a collider.
-  const Scalar h = m_cloth->contact_thickness();
+  const Scalar h = m_thickness;
   for (Index i = 0; i < x.cols(); ++i) {
     const int node = static_cast<int>(i);
     const int row = row_of_node[static_cast<std::size_t>(node)];
@@ -295,7 +308,7 @@ void ContactHandler<Scalar>::apply_friction(const Contact& contact, Vec3<Scalar>
   const Vec3<Scalar>& n = contact.normal;
   ++m_report.contacts;
   m_report.normal_force += (contact.impulse / dt) * n;
-  const Collider<Scalar>& collider = m_cloth->colliders()[static_cast<std::size_t>(contact.collider)];
+  const Collider<Scalar>& collider = (*m_colliders)[static_cast<std::size_t>(contact.collider)];
   const Vec3<Scalar> relative = velocity - contact.surface_velocity;
   const Vec3<Scalar> tangential = relative - n.dot(relative) * n;
   const Scalar speed = tangential.norm();
@@ -324,9 +337,9 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
     bound(t, dt);
   }
   m_constrained = false;
-  const auto& colliders = m_cloth->colliders();
-  const VectorX<Scalar>& masses = m_cloth->grid().masses();
-  const Scalar h = m_cloth->contact_thickness();
+  const std::vector<Collider<Scalar>>& colliders = *m_colliders;
+  const VectorX<Scalar>& masses = *m_masses;
+  const Scalar h = m_thickness;
   for (Index i = 0; i < x.cols(); ++i) {
     const int node = static_cast<int>(i);
     if (pinned[static_cast<std::size_t>(node)] != 0) continue;
@@ -353,7 +366,7 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
     x_new.col(i) = x.col(i) + dt * velocity;
   }
   // The guarantee: no node ends deeper than the tolerance.
-  const Scalar tolerance = m_cloth->contact_tolerance();
+  const Scalar tolerance = m_tolerance;
   for (Index i = 0; i < x.cols(); ++i) {
     if (pinned[static_cast<std::size_t>(i)] != 0) continue;
     for (std::size_t k = 0; k < colliders.size(); ++k) {

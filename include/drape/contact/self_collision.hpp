@@ -39,7 +39,10 @@
 #include "drape/collision/continuous_collision.hpp"
 #include "drape/collision/mesh_topology.hpp"
 #include "drape/collision/primitive_distance.hpp"
-#include "drape/core/cloth.hpp"
+#include "drape/contact/collider.hpp"
+#include "drape/contact/self_collision_settings.hpp"
+#include "drape/core/types.hpp"
+#include "drape/core/validation.hpp"
 
 namespace drape {
 
@@ -83,13 +86,8 @@ bool sides_apart(const std::array<Vec3<Scalar>, Count>& points, std::size_t spli
 template <class Scalar = double>
 class SelfCollisionHandler {
  public:
-  /// For `cloth` with its own settings and thickness.
-  explicit SelfCollisionHandler(const Cloth<Scalar>& cloth)
-      : SelfCollisionHandler(cloth.self_collision(), cloth.contact_thickness()) {
-    if (active()) build(cloth.grid().triangles(), cloth.grid().masses(), cloth.start_positions());
-  }
-  SelfCollisionHandler(const Cloth<Scalar>&& cloth) = delete;
-  /// For any triangle mesh, e.g. several cloths as one (their node ids one after the other):
+  /// For any triangle mesh: a cloth's (its self_collision(), contact_thickness(), grid().triangles(),
+  /// grid().masses(), start_positions()) or several cloths as one (their node ids one after the other):
   /// `masses` and `positions` (any pose, to shape the hierarchy) have a column per node.
   /// \throws InvalidParameter as SelfCollisionSettings::validate().
   SelfCollisionHandler(const SelfCollisionSettings<Scalar>& settings, Scalar contact_thickness,

@@ -10,14 +10,13 @@
 /// correctly rounded operations in the same order and no fused multiply-add, so the results are
 /// bitwise the same whichever runs.
 ///
-/// `use_instruction_set()` chooses by hand, for comparisons and benchmarks; the environment
-/// variable `DRAPE_INSTRUCTION_SET=baseline` does the same for a whole process.
+/// `use_instruction_set()` (core/instruction_set_choice.hpp) chooses by hand, for comparisons and
+/// benchmarks; the environment variable `DRAPE_INSTRUCTION_SET=baseline` does the same for a whole
+/// process.
 
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
-
-#include "drape/core/validation.hpp"
 
 /// 1 where drape compiles an AVX2 version beside the baseline one (GCC or Clang on x86-64, unless
 /// the whole build already targets AVX2).
@@ -60,13 +59,14 @@ inline std::atomic<InstructionSet>& chosen_instruction_set() {
 /// The instruction set the hot loops use now.
 inline InstructionSet instruction_set() { return detail::chosen_instruction_set().load(std::memory_order_relaxed); }
 
-/// Chooses the instruction set for the whole process (not while a step runs).
-/// \throws InvalidParameter if this CPU or build does not support `set`.
-inline void use_instruction_set(InstructionSet set) {
-  if (set == InstructionSet::Avx2 && detected_instruction_set() != InstructionSet::Avx2)
-    throw InvalidParameter("instruction_set", "avx2",
-                           "baseline (this CPU has no AVX2, or the build already targets it)");
-  detail::chosen_instruction_set().store(set, std::memory_order_relaxed);
+namespace detail {
+/// Chooses `set` for the whole process if this CPU and build support it; returns false (and
+/// changes nothing) otherwise. use_instruction_set() is the checked entry point.
+inline bool choose_instruction_set(InstructionSet set) {
+  if (set == InstructionSet::Avx2 && detected_instruction_set() != InstructionSet::Avx2) return false;
+  chosen_instruction_set().store(set, std::memory_order_relaxed);
+  return true;
 }
+}  // namespace detail
 
 }  // namespace drape

@@ -1,6 +1,6 @@
 #pragma once
 /// \file self_collision_settings.hpp
-/// How the cloth collides with itself (physics/self_collision.hpp does it): off by default, and
+/// How the cloth collides with itself (contact/self_collision.hpp does it): off by default, and
 /// off costs nothing. Two layers keep twice the cloth's half-thickness (`ClothSpec::contact_thickness`)
 /// apart, the distance a node keeps from a collider's surface on each side.
 
