@@ -28,6 +28,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
 
