@@ -21,6 +21,8 @@
 #include "drape/core/enum_names.hpp"
 #include "drape/core/instruction_set_choice.hpp"
 #include "drape/core/grid.hpp"
+#include "drape/core/cloth_mesh.hpp"
+#include "drape/core/mesh_generators.hpp"
 #include "drape/core/spring_set.hpp"
 #include "drape/core/pins.hpp"
 #include "drape/core/pin_path.hpp"

@@ -383,7 +383,7 @@ void bind_spec_and_cloth(nb::module_& m) {
           "node", [](const Cloth& c, int i, int j) { return c.grid().node(i, j); }, "i"_a, "j"_a,
           "The id of node (i, j): j * nx + i.")
       .def_prop_ro(
-          "triangles", [](const Cloth& c) { return triangle_array(c.grid().triangles()); }, nb::rv_policy::automatic,
+          "triangles", [](const Cloth& c) { return triangle_array(c.triangles()); }, nb::rv_policy::automatic,
           "(m, 3) int32 node ids of the mesh's triangles, counter-clockwise seen from +y.")
       .def_prop_ro(
           "start_positions",

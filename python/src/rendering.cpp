@@ -16,6 +16,7 @@
 
 #include "bindings.hpp"
 #include "drape/viewer/camera.hpp"
+#include "drape/viewer/cloth_shape.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
 #include "drape/viewer/collider_mesh.hpp"
 #include "drape/viewer/offscreen_context.hpp"
@@ -91,14 +92,14 @@ class Renderer {
     rs.height = options.height;
     rs.samples = options.samples;
     rs.floor = options.floor;
-    rs.floor_cell = float(std::max(first.grid().nx() - 1, first.grid().ny() - 1) * first.grid().spacing() / 8.0);
+    rs.floor_cell = float(drape::viewer::longest_side(first) / 8.0);
     std::vector<std::array<float, 2>> pattern;
     std::vector<std::array<int, 3>> triangles;
     int offset = 0;
     for (const Source& s : m_sources) {
-      const auto p = drape::viewer::ClothRenderer::grid_pattern(s.cloth->grid().nx(), s.cloth->grid().ny());
+      const auto p = drape::viewer::checker_coordinates(*s.cloth);
       pattern.insert(pattern.end(), p.begin(), p.end());
-      for (const std::array<int, 3>& t : s.cloth->grid().triangles())
+      for (const std::array<int, 3>& t : s.cloth->triangles())
         triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
       offset += s.cloth->node_count();
     }

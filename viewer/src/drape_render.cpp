@@ -33,6 +33,7 @@
 #include "drape/scene_file/pin_schedule.hpp"
 #include "drape/scene_file/settings.hpp"
 #include "drape/viewer/camera.hpp"
+#include "drape/viewer/cloth_shape.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
 #include "drape/viewer/collider_mesh.hpp"
 #include "drape/viewer/offscreen_context.hpp"
@@ -281,17 +282,16 @@ class Run {
     std::vector<std::array<int, 3>> triangles;
     for (int k = 0; k < scene.cloth_count(); ++k) {
       const int offset = scene.node_offset(k);
-      for (const std::array<int, 3>& t : scene.cloth(k).grid().triangles())
+      for (const std::array<int, 3>& t : scene.cloth(k).triangles())
         triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
     }
     return triangles;
   }
-  /// Every cloth's grid coordinates, for the checker pattern.
+  /// Every cloth's checker coordinates (view_geometry's cloth_shape.hpp).
   static std::vector<std::array<float, 2>> scene_pattern(const drape::ClothScene<double>& scene) {
     std::vector<std::array<float, 2>> pattern;
     for (int k = 0; k < scene.cloth_count(); ++k) {
-      const auto cloth =
-          drape::viewer::ClothRenderer::grid_pattern(scene.cloth(k).grid().nx(), scene.cloth(k).grid().ny());
+      const auto cloth = drape::viewer::checker_coordinates(scene.cloth(k));
       pattern.insert(pattern.end(), cloth.begin(), cloth.end());
     }
     return pattern;
@@ -312,7 +312,7 @@ class Run {
     rs.height = s.output.height;
     rs.samples = s.output.samples;
     rs.floor = !s.output.no_floor;
-    rs.floor_cell = float(std::max(cloth.grid().nx() - 1, cloth.grid().ny() - 1) * cloth.grid().spacing() / 8.0);
+    rs.floor_cell = float(drape::viewer::longest_side(cloth) / 8.0);
     return rs;
   }
 

@@ -58,7 +58,7 @@ template <class Scalar = double>
 class ContactHandler {
  public:
   /// The nodes of `masses` (a mass per node) against `colliders`, resting `contact_thickness` from
-  /// their surfaces: a cloth's `colliders()`, `contact_thickness()` and `grid().masses()`. Keeps
+  /// their surfaces: a cloth's `colliders()`, `contact_thickness()` and `masses()`. Keeps
   /// references to the colliders and the masses; temporaries would dangle.
   ContactHandler(const std::vector<Collider<Scalar>>& colliders, Scalar contact_thickness,
                  const VectorX<Scalar>& masses)

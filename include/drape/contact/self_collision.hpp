@@ -86,8 +86,8 @@ bool sides_apart(const std::array<Vec3<Scalar>, Count>& points, std::size_t spli
 template <class Scalar = double>
 class SelfCollisionHandler {
  public:
-  /// For any triangle mesh: a cloth's (its self_collision(), contact_thickness(), grid().triangles(),
-  /// grid().masses(), start_positions()) or several cloths as one (their node ids one after the other):
+  /// For any triangle mesh: a cloth's (its self_collision(), contact_thickness(), triangles(),
+  /// masses(), start_positions()) or several cloths as one (their node ids one after the other):
   /// `masses` and `positions` (any pose, to shape the hierarchy) have a column per node.
   /// \throws InvalidParameter as SelfCollisionSettings::validate().
   SelfCollisionHandler(const SelfCollisionSettings<Scalar>& settings, Scalar contact_thickness,

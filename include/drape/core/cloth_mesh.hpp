@@ -177,20 +177,20 @@ std::vector<std::string> ClothMesh<Scalar>::validate(const std::string& name) co
         detail::fail_argument(name + ".rest_uv[" + detail::to_text(v) + "]", "a non-finite coordinate",
                               "finite coordinates (m)");
   }
-  const std::string range = "vertex ids in [0, " + detail::to_text(n - 1) + "]";
-  const auto check_ids = [&](const std::string& face, const int* ids, int count) {
+  // Messages are made only when a check fails: a large mesh has millions of elements.
+  const auto check_ids = [&](const char* kind, std::size_t face, const int* ids, int count) {
+    const auto where = [&] { return name + "." + kind + "[" + detail::to_text(face) + "]"; };
     for (int k = 0; k < count; ++k) {
       if (ids[k] < 0 || ids[k] >= n)
-        detail::fail_argument(name + "." + face, "vertex id " + detail::to_text(ids[k]), range);
+        detail::fail_argument(where(), "vertex id " + detail::to_text(ids[k]),
+                              "vertex ids in [0, " + detail::to_text(n - 1) + "]");
       for (int l = 0; l < k; ++l)
         if (ids[l] == ids[k])
-          detail::fail_argument(name + "." + face, "vertex " + detail::to_text(ids[k]) + " twice",
-                                "distinct corners");
+          detail::fail_argument(where(), "vertex " + detail::to_text(ids[k]) + " twice", "distinct corners");
     }
   };
-  for (std::size_t t = 0; t < triangles.size(); ++t)
-    check_ids("triangles[" + detail::to_text(t) + "]", triangles[t].data(), 3);
-  for (std::size_t q = 0; q < quads.size(); ++q) check_ids("quads[" + detail::to_text(q) + "]", quads[q].data(), 4);
+  for (std::size_t t = 0; t < triangles.size(); ++t) check_ids("triangles", t, triangles[t].data(), 3);
+  for (std::size_t q = 0; q < quads.size(); ++q) check_ids("quads", q, quads[q].data(), 4);
 
   // Degenerate faces, measured in the rest shape and in the start positions: zero area relative to
   // the squared longest edge (a sliver this thin has no usable stiffness).
@@ -217,15 +217,15 @@ std::vector<std::string> ClothMesh<Scalar>::validate(const std::string& name) co
   for (std::size_t k = 0; k < tris.size(); ++k)
     for (int c = 0; c < 3; ++c) {
       const int a = tris[k][static_cast<std::size_t>(c)], b = tris[k][static_cast<std::size_t>((c + 1) % 3)];
-      const std::string edge = "edge (" + detail::to_text(a) + ", " + detail::to_text(b) + ")";
+      const auto edge = [&] { return "edge (" + detail::to_text(a) + ", " + detail::to_text(b) + ")"; };
       if (++uses[detail::edge_key(a, b)] > 2)
-        detail::fail_argument(name + "." + face_name(static_cast<int>(k)), edge + " of a third face (non-manifold)",
+        detail::fail_argument(name + "." + face_name(static_cast<int>(k)), edge() + " of a third face (non-manifold)",
                               "edges shared by at most two faces");
       const long long directed = (static_cast<long long>(a) << 32) | static_cast<long long>(b);
       auto [it, inserted] = faces_of_directed.try_emplace(directed, std::array<int, 2>{static_cast<int>(k), c});
       if (!inserted)
         detail::fail_argument(name + "." + face_name(static_cast<int>(k)),
-                              edge + " run the same way as by " + face_name(it->second[0]) +
+                              edge() + " run the same way as by " + face_name(it->second[0]) +
                                   " (inconsistent orientation)",
                               "neighbouring faces that run their shared edge in opposite directions");
     }

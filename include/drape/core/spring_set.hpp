@@ -1,15 +1,24 @@
 #pragma once
 /// \file spring_set.hpp
-/// The springs of a cloth, generated from the grid topology, stored as structure-of-arrays.
+/// The springs of a cloth, generated from its grid or its mesh, stored as structure-of-arrays.
+///
+/// On a mesh (core/cloth_mesh.hpp): structural springs on the faces' edges, shear springs on both
+/// diagonals of every quad, bend springs across every interior edge of the triangulated mesh between
+/// its two opposite vertices (unless a spring already joins them). A mesh of triangles only has no
+/// shear springs. Rest lengths come from the mesh's rest shape. A lattice mesh (grid_mesh()) gets
+/// the grid's springs in the grid's order.
 ///
 /// Springs are stored in *colours*: contiguous ranges in which no two springs share a node, so a
 /// colour's springs can be processed by several threads without write races and with the same
 /// summation order per node whatever the thread count (drape's conventions.md, "Determinism").
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
+#include "drape/core/cloth_mesh.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/core/grid.hpp"
 #include "drape/core/validation.hpp"
@@ -64,6 +73,9 @@ class SpringSet {
   /// Structural, shear and bend springs of `grid`; rest lengths from the undeformed grid.
   /// \throws InvalidParameter if a coefficient is negative or not finite.
   SpringSet(const Grid<Scalar>& grid, const SpringCoefficients<Scalar>& coefficients);
+  /// The springs of `mesh` (the file comment's rule; a lattice mesh's are the grid's). The mesh
+  /// must pass ClothMesh::validate(). \throws InvalidParameter if a coefficient is invalid.
+  SpringSet(const ClothMesh<Scalar>& mesh, const SpringCoefficients<Scalar>& coefficients);
 
   int size() const { return static_cast<int>(m_a.size()); }
   int count(SpringCategory c) const { return m_category_count[static_cast<int>(c)]; }
@@ -82,6 +94,8 @@ class SpringSet {
 
  private:
   void add(int a, int b, SpringCategory c, const SpringParams<Scalar>& p, Scalar rest);
+  /// Fills the springs of a grid (nx x ny nodes `h` apart).
+  void add_grid(int nx, int ny, Scalar h, const SpringCoefficients<Scalar>& k);
 
   std::vector<int> m_a, m_b;
   std::vector<Scalar> m_rest_length, m_stiffness, m_damping;
@@ -106,8 +120,13 @@ void SpringSet<Scalar>::add(int a, int b, SpringCategory c, const SpringParams<S
 template <class Scalar>
 SpringSet<Scalar>::SpringSet(const Grid<Scalar>& grid, const SpringCoefficients<Scalar>& k) {
   k.validate();
-  const int nx = grid.nx(), ny = grid.ny();
-  const Scalar h = grid.spacing();
+  add_grid(grid.nx(), grid.ny(), grid.spacing(), k);
+}
+
+template <class Scalar>
+void SpringSet<Scalar>::add_grid(int nx, int ny, Scalar h, const SpringCoefficients<Scalar>& k) {
+  const auto contains = [&](int i, int j) { return i >= 0 && i < nx && j >= 0 && j < ny; };
+  const auto node = [&](int i, int j) { return j * nx + i; };
   const Scalar diagonal = h * std::sqrt(Scalar(2));
   using C = SpringCategory;
 
@@ -142,14 +161,73 @@ SpringSet<Scalar>::SpringSet(const Grid<Scalar>& grid, const SpringCoefficients<
     for (int parity = 0; parity < 2; ++parity) {
       for (int j = 0; j < ny; ++j) {
         for (int i = f.i0; i < nx; ++i) {
-          if (!grid.contains(i + f.di, j + f.dj)) continue;
+          if (!contains(i + f.di, j + f.dj)) continue;
           const int key = (f.key_is_i ? i : j) / f.stride;
           if (key % 2 != parity) continue;
-          add(grid.node(i, j), grid.node(i + f.di, j + f.dj), f.category, k[f.category], rest);
+          add(node(i, j), node(i + f.di, j + f.dj), f.category, k[f.category], rest);
         }
       }
       if (size() != m_colour_begin.back()) m_colour_begin.push_back(size());
     }
+  }
+}
+
+template <class Scalar>
+SpringSet<Scalar>::SpringSet(const ClothMesh<Scalar>& mesh, const SpringCoefficients<Scalar>& k) {
+  k.validate();
+  if (mesh.lattice) {
+    add_grid(mesh.lattice->nx, mesh.lattice->ny, mesh.lattice->spacing, k);
+    return;
+  }
+  using C = SpringCategory;
+  const Matrix3X<Scalar> rest = mesh.rest_shape();
+  // Every pair joined once, the first family that asks for it wins: edges, quad diagonals, hinges.
+  struct Pending {
+    int a, b;
+    C category;
+  };
+  std::vector<Pending> pending;
+  std::unordered_map<long long, char> joined;
+  const auto want = [&](int a, int b, C c) {
+    if (joined.emplace(detail::edge_key(a, b), 1).second) pending.push_back({std::min(a, b), std::max(a, b), c});
+  };
+  for (const std::array<int, 3>& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) want(t[e], t[(e + 1) % 3], C::Structural);
+  for (const std::array<int, 4>& q : mesh.quads)
+    for (int e = 0; e < 4; ++e) want(q[e], q[(e + 1) % 4], C::Structural);
+  for (const std::array<int, 4>& q : mesh.quads) {
+    want(q[0], q[2], C::Shear);
+    want(q[1], q[3], C::Shear);
+  }
+  for (const Hinge& h : mesh.hinges()) want(h.c, h.d, C::Bend);
+
+  // Greedy colouring in order of first node: the smallest colour neither end uses yet. Springs are
+  // then stored colour by colour, each colour in order of first node (for locality).
+  std::vector<std::vector<int>> colours_of_node(static_cast<std::size_t>(mesh.vertex_count()));
+  std::vector<int> colour(pending.size());
+  std::vector<std::size_t> order(pending.size());
+  for (std::size_t s = 0; s < order.size(); ++s) order[s] = s;
+  std::sort(order.begin(), order.end(), [&](std::size_t s, std::size_t t) {
+    return pending[s].a != pending[t].a ? pending[s].a < pending[t].a : pending[s].b < pending[t].b;
+  });
+  int colours = 0;
+  for (std::size_t s : order) {
+    std::vector<int>& at_a = colours_of_node[static_cast<std::size_t>(pending[s].a)];
+    std::vector<int>& at_b = colours_of_node[static_cast<std::size_t>(pending[s].b)];
+    int c = 0;
+    while (std::find(at_a.begin(), at_a.end(), c) != at_a.end() || std::find(at_b.begin(), at_b.end(), c) != at_b.end())
+      ++c;
+    colour[s] = c;
+    at_a.push_back(c);
+    at_b.push_back(c);
+    colours = std::max(colours, c + 1);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t s, std::size_t t) { return colour[s] < colour[t]; });
+  m_colour_begin.push_back(0);
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const Pending& p = pending[order[i]];
+    add(p.a, p.b, p.category, k[p.category], (rest.col(p.b) - rest.col(p.a)).norm());
+    if (i + 1 == order.size() || colour[order[i + 1]] != colour[order[i]]) m_colour_begin.push_back(size());
   }
 }
 

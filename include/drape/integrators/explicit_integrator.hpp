@@ -28,7 +28,7 @@ class ExplicitIntegrator : public Integrator<Scalar> {
   ExplicitIntegrator(const Cloth<Scalar>& cloth, const IntegratorOptions& options)
       : Integrator<Scalar>(cloth, options),
         m_forces(cloth, options.threads),
-        m_inverse_mass(cloth.grid().masses().cwiseInverse()),
+        m_inverse_mass(cloth.masses().cwiseInverse()),
         m_x_new(3, cloth.node_count()),
         m_v_new(3, cloth.node_count()) {}
 

@@ -241,7 +241,7 @@ template <class Scalar>
 double ImplicitEuler<Scalar>::nonlinear_residual(Scalar time, Scalar dt) {
   m_forces.force(m_x_new, m_v_new, time, m_f);
   const std::vector<int>& node_of_row = m_assembler.node_of_row();
-  const VectorX<Scalar>& masses = this->cloth().grid().masses();
+  const VectorX<Scalar>& masses = this->cloth().masses();
   double g2 = 0;
   for (std::size_t r = 0; r < node_of_row.size(); ++r) {
     const int node = node_of_row[r];

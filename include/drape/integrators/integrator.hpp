@@ -85,9 +85,9 @@ class Integrator {
       : m_cloth(&cloth),
         m_dt((options.validate(), Scalar(options.dt))),
         m_pins(cloth.pins()),
-        m_contacts(cloth.colliders(), cloth.contact_thickness(), cloth.grid().masses()),
-        m_self_collisions(cloth.self_collision(), cloth.contact_thickness(), cloth.grid().triangles(),
-                          cloth.grid().masses(), cloth.start_positions()) {
+        m_contacts(cloth.colliders(), cloth.contact_thickness(), cloth.masses()),
+        m_self_collisions(cloth.self_collision(), cloth.contact_thickness(), cloth.triangles(),
+                          cloth.masses(), cloth.start_positions()) {
     set_dt(m_dt);  // the conversion to Scalar must not make it 0 or infinite
   }
 

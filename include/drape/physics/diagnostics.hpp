@@ -17,7 +17,7 @@ namespace drape {
 /// \f$ \tfrac12 \sum_i m_i |v_i|^2 \f$ (J).
 template <class Scalar>
 Scalar kinetic_energy(const Cloth<Scalar>& cloth, const State<Scalar>& state) {
-  return Scalar(0.5) * (state.velocities.colwise().squaredNorm().transpose().cwiseProduct(cloth.grid().masses())).sum();
+  return Scalar(0.5) * (state.velocities.colwise().squaredNorm().transpose().cwiseProduct(cloth.masses())).sum();
 }
 
 /// \f$ \sum_s \tfrac12 k_s (L_s - l_s)^2 \f$ (J).
@@ -33,7 +33,7 @@ Scalar spring_potential_energy(const Cloth<Scalar>& cloth, const detail::NonDedu
 /// \f$ -\sum_i m_i\, g \cdot x_i \f$ (J), zero at the rest height y = 0.
 template <class Scalar>
 Scalar gravitational_potential_energy(const Cloth<Scalar>& cloth, const detail::NonDeducedT<ConstRef3X<Scalar>>& x) {
-  return -(cloth.gravity().transpose() * x * cloth.grid().masses()).value();
+  return -(cloth.gravity().transpose() * x * cloth.masses()).value();
 }
 
 template <class Scalar>
@@ -64,7 +64,7 @@ Matrix3X<Scalar> pin_forces(const Cloth<Scalar>& cloth, const State<Scalar>& sta
   ForceAssembler<Scalar>(cloth, 1).force(state.positions, state.velocities, state.time, f);
   Matrix3X<Scalar> r(3, static_cast<Index>(pinned.size()));
   for (std::size_t k = 0; k < pinned.size(); ++k)
-    r.col(Index(k)) = cloth.grid().masses()[pinned[k]] * acceleration.col(Index(k)) - f.col(pinned[k]);
+    r.col(Index(k)) = cloth.masses()[pinned[k]] * acceleration.col(Index(k)) - f.col(pinned[k]);
   return r;
 }
 

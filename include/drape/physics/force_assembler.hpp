@@ -16,6 +16,10 @@
 /// 2. `node_pass`: every node sums gravity, its springs' slots and the force terms' share, in
 ///    blocks of `block_nodes` nodes, in a fixed order: results are bitwise identical for any
 ///    thread count.
+/// A cloth that is not a grid (an irregular mesh) has as many spring offsets as springs, so phases 1
+/// and 2 take the general form there: every spring's force into a per-spring array, then every
+/// node sums its incident springs' forces from a list made once (ascending spring order). The
+/// phases and their barriers are the same, so the integrators do not tell the two apart.
 /// Force terms are evaluated before phase 2 by `evaluate_terms` (those that share work on the
 /// team, the others on one thread; nothing to do without terms). The phases are public so that an
 /// integrator can fuse its own node updates into phase 2 and run a whole step in one parallel
@@ -24,6 +28,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include <Eigen/Core>
@@ -72,7 +78,12 @@ class ForceAssembler {
 
   const Cloth<Scalar>& cloth() const { return *m_cloth; }
   int threads() const { return effective_threads(m_threads, m_cloth->springs().size(), min_springs_per_thread); }
-  const SpringFamilies<Scalar>& families() const { return m_families; }
+  /// The springs by family (a grid cloth; an irregular mesh takes the general path).
+  /// \throws std::logic_error for a cloth that is not a grid.
+  const SpringFamilies<Scalar>& families() const {
+    if (!m_families) throw std::logic_error("drape: ForceAssembler::families() of a cloth that is not a grid");
+    return *m_families;
+  }
 
   /// Phase 0 for this thread's share of the nodes: `x` and `v` (3 x n) into input_positions() and
   /// input_velocities() (call from every thread of a team, then team_barrier() before the spring
@@ -100,6 +111,10 @@ class ForceAssembler {
   /// included where the compiler inlines it.
   template <class BlockFn>
   void node_pass(BlockFn&& fn) const {
+    if (!m_families) {
+      node_pass_general(fn);
+      return;
+    }
 #if DRAPE_AVX2_DISPATCH
     if (instruction_set() == InstructionSet::Avx2) {
       node_pass_avx2(fn);
@@ -135,6 +150,11 @@ class ForceAssembler {
   }
 #endif
 
+  /// The general form of phases 1 and 2 (the file comment).
+  void spring_pass_general(const NodeView<Scalar>& x, const NodeView<Scalar>& v) const;
+  template <class BlockFn>
+  void node_pass_general(BlockFn& fn) const;
+
   /// `out[j] = (start ? start[j] : mass[j] * g) + sum over q < K of (as_first[q][j] - as_second[q][j])`,
   /// summed in q order.
   template <int K>
@@ -155,13 +175,18 @@ class ForceAssembler {
   NodeView<Scalar> component_view(int first) const { return {{input(first, 0), input(first, 1), input(first, 2)}}; }
 
   Scalar* slots(int family, int component) const {
-    return m_slots.data() + (std::size_t(family) * 3 + std::size_t(component)) * std::size_t(m_families.slot_count()) +
-           std::size_t(m_families.padding());
+    return m_slots.data() + (std::size_t(family) * 3 + std::size_t(component)) * std::size_t(m_families->slot_count()) +
+           std::size_t(m_families->padding());
   }
 
   const Cloth<Scalar>* m_cloth;
   int m_threads;
-  SpringFamilies<Scalar> m_families;
+  std::optional<SpringFamilies<Scalar>> m_families;  // grid cloths only
+  /// General path: spring s's force on its node a at [k * springs + s], component k.
+  mutable std::vector<Scalar> m_spring_forces;
+  /// General path: node i's springs at [m_incident_begin[i], m_incident_begin[i + 1]) of
+  /// m_incident, spring s as s + 1 where i is its node a and as -(s + 1) where i is its node b.
+  std::vector<int> m_incident_begin, m_incident;
   /// Per family and component: the force of the spring whose first node is i at slot i, 0 where
   /// there is no spring (those slots are never written).
   mutable std::vector<Scalar> m_slots;
@@ -177,10 +202,27 @@ template <class Scalar>
 ForceAssembler<Scalar>::ForceAssembler(const Cloth<Scalar>& cloth, int threads)
     : m_cloth(&cloth),
       m_threads(threads),
-      m_families(cloth.springs(), cloth.node_count()),
-      m_slots(std::size_t(m_families.family_count()) * 3 * std::size_t(m_families.slot_count()), Scalar(0)),
       m_input(6 * std::size_t(cloth.node_count())) {
   if (has_terms()) m_term_forces.setZero(3, cloth.node_count());
+  const SpringSet<Scalar>& springs = cloth.springs();
+  if (cloth.is_grid()) {
+    m_families.emplace(springs, cloth.node_count());
+    m_slots.assign(std::size_t(m_families->family_count()) * 3 * std::size_t(m_families->slot_count()), Scalar(0));
+    return;
+  }
+  m_spring_forces.assign(3 * std::size_t(springs.size()), Scalar(0));
+  m_incident_begin.assign(std::size_t(cloth.node_count()) + 1, 0);
+  for (int s = 0; s < springs.size(); ++s) {
+    ++m_incident_begin[std::size_t(springs.a()[std::size_t(s)]) + 1];
+    ++m_incident_begin[std::size_t(springs.b()[std::size_t(s)]) + 1];
+  }
+  for (std::size_t i = 1; i < m_incident_begin.size(); ++i) m_incident_begin[i] += m_incident_begin[i - 1];
+  m_incident.resize(std::size_t(m_incident_begin.back()));
+  std::vector<int> next(m_incident_begin.begin(), m_incident_begin.end() - 1);
+  for (int s = 0; s < springs.size(); ++s) {
+    m_incident[std::size_t(next[std::size_t(springs.a()[std::size_t(s)])]++)] = s + 1;
+    m_incident[std::size_t(next[std::size_t(springs.b()[std::size_t(s)])]++)] = -(s + 1);
+  }
 }
 
 template <class Scalar>
@@ -232,6 +274,10 @@ DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::copy_input_loops(const Scalar* x,
 
 template <class Scalar>
 void ForceAssembler<Scalar>::spring_pass(const NodeView<Scalar>& x, const NodeView<Scalar>& v) const {
+  if (!m_families) {
+    spring_pass_general(x, v);
+    return;
+  }
 #if DRAPE_AVX2_DISPATCH
   if (instruction_set() == InstructionSet::Avx2) {
     spring_pass_avx2(x, v);
@@ -251,9 +297,9 @@ DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::spring_pass_loops(const NodeView<
   alignas(64) Scalar d[3][max_run];
   alignas(64) Scalar length[max_run];
   alignas(64) Scalar w_dot_d[max_run];
-  const std::vector<typename SpringFamilies<Scalar>::Run>& runs = m_families.runs();
-  const std::vector<int>& offsets = m_families.offsets();
-  const auto share = m_families.run_share(team_rank(), team_size());
+  const std::vector<typename SpringFamilies<Scalar>::Run>& runs = m_families->runs();
+  const std::vector<int>& offsets = m_families->offsets();
+  const auto share = m_families->run_share(team_rank(), team_size());
   for (int r = share.first; r < share.second; ++r) {
     const typename SpringFamilies<Scalar>::Run& run = runs[std::size_t(r)];
     const Index a = run.first, b = a + offsets[std::size_t(run.family)];
@@ -298,10 +344,10 @@ template <class BlockFn>
 DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::node_pass_loops(BlockFn& fn) const {
   alignas(64) Scalar total[3][block_nodes];
   const Index n = m_cloth->node_count();
-  const Scalar* masses = m_cloth->grid().masses().data();
+  const Scalar* masses = m_cloth->masses().data();
   const Vec3<Scalar> g = m_cloth->gravity();
-  const int families = m_families.family_count();
-  const std::vector<int>& offsets = m_families.offsets();
+  const int families = m_families->family_count();
+  const std::vector<int>& offsets = m_families->offsets();
   const bool terms = has_terms();
   const auto share = even_share((n + block_nodes - 1) / block_nodes, team_rank(), team_size());
   for (long long block = share.first; block < share.second; ++block) {
@@ -330,6 +376,58 @@ DRAPE_INLINE_LOOP void ForceAssembler<Scalar>::node_pass_loops(BlockFn& fn) cons
         const Scalar* extra = m_term_forces.data() + 3 * begin + k;
         for (int j = 0; j < count; ++j) total[k][j] += extra[3 * j];
       }
+    }
+    fn(ForceBlock<Scalar>{begin, count, {total[0], total[1], total[2]}});
+  }
+}
+
+template <class Scalar>
+void ForceAssembler<Scalar>::spring_pass_general(const NodeView<Scalar>& x, const NodeView<Scalar>& v) const {
+  const SpringSet<Scalar>& springs = m_cloth->springs();
+  const int count = springs.size();
+  const int* a = springs.a().data();
+  const int* b = springs.b().data();
+  const Scalar* rest = springs.rest_length().data();
+  const Scalar* ks = springs.stiffness().data();
+  const Scalar* kd = springs.damping().data();
+  Scalar* f[3] = {m_spring_forces.data(), m_spring_forces.data() + count, m_spring_forces.data() + 2 * count};
+  const auto share = even_share(count, team_rank(), team_size());
+  for (Index s = share.first; s < share.second; ++s) {
+    const Index i = a[s], j = b[s];
+    const Scalar d0 = x.p[0][j] - x.p[0][i], d1 = x.p[1][j] - x.p[1][i], d2 = x.p[2][j] - x.p[2][i];
+    const Scalar w_dot_d = (v.p[0][j] - v.p[0][i]) * d0 + (v.p[1][j] - v.p[1][i]) * d1 + (v.p[2][j] - v.p[2][i]) * d2;
+    const Scalar c = spring_force_factor(std::sqrt(d0 * d0 + d1 * d1 + d2 * d2), w_dot_d, rest[s], ks[s], kd[s]);
+    f[0][s] = c * d0;
+    f[1][s] = c * d1;
+    f[2][s] = c * d2;
+  }
+}
+
+template <class Scalar>
+template <class BlockFn>
+void ForceAssembler<Scalar>::node_pass_general(BlockFn& fn) const {
+  alignas(64) Scalar total[3][block_nodes];
+  const Index n = m_cloth->node_count();
+  const Index springs = m_cloth->springs().size();
+  const Scalar* masses = m_cloth->masses().data();
+  const Vec3<Scalar> g = m_cloth->gravity();
+  const bool terms = has_terms();
+  const auto share = even_share((n + block_nodes - 1) / block_nodes, team_rank(), team_size());
+  for (long long block = share.first; block < share.second; ++block) {
+    const Index begin = Index(block) * block_nodes;
+    const int count = int(std::min<Index>(block_nodes, n - begin));
+    for (int j = 0; j < count; ++j) {
+      const Index i = begin + j;
+      Scalar t[3] = {masses[i] * g[0], masses[i] * g[1], masses[i] * g[2]};
+      for (int e = m_incident_begin[std::size_t(i)]; e < m_incident_begin[std::size_t(i) + 1]; ++e) {
+        const int code = m_incident[std::size_t(e)];
+        const Index s = code > 0 ? code - 1 : -code - 1;
+        for (int k = 0; k < 3; ++k) {
+          const Scalar fk = m_spring_forces[std::size_t(k * springs + s)];
+          t[k] += code > 0 ? fk : -fk;
+        }
+      }
+      for (int k = 0; k < 3; ++k) total[k][j] = terms ? t[k] + m_term_forces(k, i) : t[k];
     }
     fn(ForceBlock<Scalar>{begin, count, {total[0], total[1], total[2]}});
   }

@@ -196,7 +196,7 @@ JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, const s
     edge_rows[2 * static_cast<std::size_t>(s) + 1] = row(sp.b()[s]);
   }
   std::vector<Scalar> row_mass(rows);
-  for (std::size_t r = 0; r < rows; ++r) row_mass[r] = cloth.grid().masses()[m_node_of_row[r]];
+  for (std::size_t r = 0; r < rows; ++r) row_mass[r] = cloth.masses()[m_node_of_row[r]];
   m_edges = EdgeOperator<Scalar>(std::move(edge_rows), sp.colour_begin(), std::move(row_mass));
   m_slots.resize(static_cast<std::size_t>(sp.size()));
   for (int s = 0; s < sp.size(); ++s) {
@@ -226,7 +226,7 @@ JacobianAssembler<Scalar>::JacobianAssembler(const Cloth<Scalar>& cloth, const s
       if (r < 0) continue;
       const int block = slot[4 + static_cast<std::size_t>(side)];
       if (block >= 0) {
-        // Grid springs join distinct node pairs, so each off-diagonal block is one spring's -C.
+        // Springs join distinct node pairs (spring_set.hpp), so each off-diagonal block is one spring's -C.
         DRAPE_ASSERT(!spring_block[static_cast<std::size_t>(block)],
                      "JacobianAssembler: two springs join the same nodes");
         spring_block[static_cast<std::size_t>(block)] = 1;
@@ -251,7 +251,7 @@ LinearSystem<Scalar> JacobianAssembler<Scalar>::make_system() const {
   LinearSystem<Scalar> system;
   system.matrix = m_pattern;
   system.edges = m_edges;
-  system.layout = GridLayout{m_cloth->grid().nx(), m_cloth->grid().ny(), m_row_of_node};
+  if (m_cloth->is_grid()) system.layout = GridLayout{m_cloth->grid().nx(), m_cloth->grid().ny(), m_row_of_node};
   system.constraints = ConstraintFilter<Scalar>(system_nodes());
   if (m_pins == PinTreatment::Filter)
     for (int node : m_held) system.constraints.fix(m_row_of_node[static_cast<std::size_t>(node)]);
@@ -412,7 +412,7 @@ void JacobianAssembler<Scalar>::write_system(const ConstRef3X<Scalar>& x, const 
   const Scalar* rest = sp.rest_length().data();
   const Scalar* ks = sp.stiffness().data();
   const Scalar* kd = sp.damping().data();
-  const Scalar* masses = m_cloth->grid().masses().data();
+  const Scalar* masses = m_cloth->masses().data();
   const int* node_of_row = m_node_of_row.data();
   const int* diagonal = system.matrix.diagonal().data();
   const int* incidence_begin = m_incidence_begin.data();

@@ -101,9 +101,9 @@ SelfCollisionHandler<Scalar> ClothScene<Scalar>::make_handler(const std::vector<
   Matrix3X<Scalar> positions(3, nodes);
   int offset = 0;
   for (const auto& c : cloths) {
-    for (std::array<int, 3> t : c->grid().triangles())
+    for (std::array<int, 3> t : c->triangles())
       triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-    masses.segment(offset, c->node_count()) = c->grid().masses();
+    masses.segment(offset, c->node_count()) = c->masses();
     positions.middleCols(offset, c->node_count()) = c->start_positions();
     offset += c->node_count();
   }

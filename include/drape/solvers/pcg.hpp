@@ -44,8 +44,9 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
   /// `multigrid`: the V-cycle's settings if settings.preconditioner is multigrid.
   explicit PcgSolver(const IterativeSettings& settings = {}, const MultigridSettings& multigrid = {});
 
-  /// \throws InvalidParameter if the multigrid preconditioner is chosen for a system without a
-  /// lattice layout (or with one that does not match its matrix).
+  /// A system without a lattice layout (a cloth that is not a grid) takes block Jacobi where a
+  /// geometric multigrid was chosen. \throws InvalidParameter if the layout does not match the
+  /// system's matrix.
   void analyze(const LinearSystem<Scalar>& system) override;
   SolveStatus solve(const LinearSystem<Scalar>& system, VectorX<Scalar>& x) override;
 
@@ -83,6 +84,9 @@ template <class Scalar>
 void PcgSolver<Scalar>::analyze(const LinearSystem<Scalar>& system) {
   const Index n = system.size();
   for (VectorX<Scalar>* v : {&m_r, &m_z, &m_p, &m_q}) v->setZero(n);
+  const bool geometric = m_settings.preconditioner == PreconditionerKind::Multigrid ||
+                         m_settings.preconditioner == PreconditionerKind::MultigridFloat;
+  if (geometric && system.layout.empty()) m_preconditioner = std::make_unique<BlockJacobi<Scalar>>();
   m_preconditioner->analyze(system);
   m_analyzed = n;
 }

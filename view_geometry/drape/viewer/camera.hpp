@@ -1,6 +1,6 @@
 #pragma once
 /// \file camera.hpp
-/// Cameras that frame the cloth whatever the grid size: frame_bounds() fits a box that holds the
+/// Cameras that frame the cloth whatever its size: frame_bounds() fits a box that holds the
 /// flat starting cloth and the cloth hanging from its pins (`--camera fixed`), seen from a chosen
 /// azimuth and elevation; FollowCamera re-frames the moving cloth every frame (`--camera follow`).
 
@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "drape/model/cloth.hpp"
+#include "drape/viewer/cloth_shape.hpp"
 
 namespace drape::viewer {
 
@@ -60,7 +61,9 @@ Bounds hanging_bounds(const Cloth<Scalar>& cloth, const Matrix3X<Scalar>& start,
     lowest = std::min(lowest, pin_y - 1.05f * nearest);
   }
   const float spread = std::max(pin_box.size().x(), pin_box.size().z());
-  const float longest = float(std::max(cloth.grid().nx() - 1, cloth.grid().ny() - 1)) * float(cloth.grid().spacing());
+  const float longest = cloth.is_grid() ? float(std::max(cloth.grid().nx() - 1, cloth.grid().ny() - 1)) *
+                                              float(cloth.grid().spacing())
+                                        : float(longest_side(cloth));
   const float side = 0.5f * std::max(0.0f, longest - spread);
   b.extend(Eigen::Vector3f(pin_box.min.x() - side, lowest, pin_box.min.z() - side));
   b.extend(Eigen::Vector3f(pin_box.max.x() + side, pin_box.max.y(), pin_box.max.z() + side));
