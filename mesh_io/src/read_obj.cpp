@@ -268,7 +268,12 @@ class ObjParser {
   }
 
   void on_object(const char* name) {
-    m_object = name;
+    // tinyobjloader hands over the rest of the line, spaces included.
+    const std::string_view text(name);
+    const std::size_t first = text.find_first_not_of(" \t");
+    m_object = first == std::string_view::npos
+                   ? ""
+                   : std::string(text.substr(first, text.find_last_not_of(" \t") + 1 - first));
     m_active_groups.clear();  // a new object starts outside any group
   }
 

@@ -137,9 +137,12 @@ TEST_CASE("a triangle mesh with groups: each g and o name holds the vertices of 
       {"cloth", {0, 1, 2, 3, 4, 5}}, {"left", {0, 1, 2, 3}}, {"right", {1, 2, 4, 5}}, {"hem", {1, 2, 4, 5}}};
   CHECK(mesh.groups == groups);
 
-  // An `o` line starts outside any group: the second object's face is not in `top`.
-  const std::string two_objects = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\no a\ng top\nf 1 2 3\no b\nf 1 3 4\n";
-  const std::map<std::string, std::vector<int>> expected{{"a", {0, 1, 2}}, {"top", {0, 1, 2}}, {"b", {0, 2, 3}}};
+  // An `o` line starts outside any group: the second object's face is not in `top`. A `g` line
+  // without a name ends the groups; an object's name is the rest of its line, trimmed.
+  const std::string two_objects =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 2 0\no a\ng top\nf 1 2 3\no  b c \nf 1 3 4\ng \nf 4 3 5\n";
+  const std::map<std::string, std::vector<int>> expected{
+      {"a", {0, 1, 2}}, {"top", {0, 1, 2}}, {"b c", {0, 2, 3, 4}}};
   CHECK(read_obj(write(dir, "two_objects.obj", two_objects)).mesh.groups == expected);
 }
 
