@@ -138,6 +138,15 @@ struct Face {
   int first_corner, corners, line;
 };
 
+/// An element of the file, e.g. vertex 4 (the fourth `v` line); its text is made only for a message.
+struct Element {
+  const char* kind;
+  std::size_t number;  ///< from 1
+  std::string text() const { return std::string(kind) + " " + detail::to_text(number); }
+};
+
+std::string corner_text(int k) { return "corner " + detail::to_text(k + 1) + ": "; }
+
 /// The statements of one file as tinyobjloader hands them over, checked as they come.
 class ObjParser {
  public:
@@ -172,17 +181,17 @@ class ObjParser {
   std::pair<int, std::string> locate(const std::string& element) const;
 
  private:
-  [[noreturn]] void fail(int line, const std::string& element, const std::string& value,
+  [[noreturn]] void fail(int line, const Element& element, const std::string& value,
                          const std::string& allowed) const {
-    throw ObjError(m_name, line, element, value, allowed);
+    throw ObjError(m_name, line, element.text(), value, allowed);
   }
 
   int current_line() const { return m_lines.line_ending_at(m_buffer.consumed()); }
 
   /// The first `count` numbers of the current `keyword` line, checked on the text: tinyobjloader
   /// reads a missing or malformed number as 0. `values` are its readings of them.
-  void check_numbers(const char* keyword, const std::string& element, const double* values, int count,
-                     const std::string& allowed) const {
+  void check_numbers(const char* keyword, const Element& element, const double* values, int count,
+                     const char* allowed) const {
     const int line = current_line();
     std::string_view rest = m_lines.text(m_text, line);
     rest.remove_prefix(std::min(rest.find_first_not_of(" \t"), rest.size()));
@@ -202,8 +211,8 @@ class ObjParser {
 
   void on_vertex(double x, double y, double z) {
     const double xyz[3] = {x, y, z};
-    const int number = static_cast<int>(m_vertex_lines.size()) + 1;
-    check_numbers("v", "vertex " + detail::to_text(number), xyz, 3,
+    const std::size_t number = m_vertex_lines.size() + 1;
+    check_numbers("v", {"vertex", number}, xyz, 3,
                   "x y z as finite numbers (a w and vertex colours after them are ignored)");
     m_positions.insert(m_positions.end(), xyz, xyz + 3);
     m_vertex_lines.push_back(current_line());
@@ -212,8 +221,8 @@ class ObjParser {
   void on_texcoord(double u, double v) {
     if (!m_options.rest_from_uv) return;  // uv only matter as a pattern
     const double uv[2] = {u, v};
-    const int number = static_cast<int>(m_uv_lines.size()) + 1;
-    check_numbers("vt", "texture coordinate " + detail::to_text(number), uv, 2,
+    const std::size_t number = m_uv_lines.size() + 1;
+    check_numbers("vt", {"texture coordinate", number}, uv, 2,
                   "u v as finite numbers (a w after them is ignored)");
     m_uv.insert(m_uv.end(), uv, uv + 2);
     m_uv_lines.push_back(current_line());
@@ -221,19 +230,18 @@ class ObjParser {
 
   void on_face(const tinyobj::index_t* corners, int count) {
     const int line = current_line();
-    const std::string element = "face " + detail::to_text(m_faces.size() + 1);
+    const Element element{"face", m_faces.size() + 1};
     if (count < 3 || count > 4)
       fail(line, element, detail::to_text(count) + (count == 1 ? " corner" : " corners"),
            "3 (a triangle) or 4 (a quad); larger polygons are split into triangles or quads in the modelling tool");
     for (int k = 0; k < count; ++k) {
       const tinyobj::index_t& c = corners[k];
-      const std::string corner = "corner " + detail::to_text(k + 1) + ": ";
-      const int vertex = resolve(c.vertex_index, static_cast<int>(m_vertex_lines.size()), "vertex", line, element,
-                                 corner, true);
+      const int vertex =
+          resolve(c.vertex_index, static_cast<int>(m_vertex_lines.size()), "vertex", line, element, k, true);
       // Texture coordinates count only as a pattern; without rest_from_uv their indices are not read.
       const int uv = m_options.rest_from_uv
                          ? resolve(c.texcoord_index, static_cast<int>(m_uv_lines.size()), "texture coordinate",
-                                   line, element, corner, false)
+                                   line, element, k, false)
                          : -1;
       m_corners.push_back({vertex, uv, c.vertex_index, c.texcoord_index});
     }
@@ -245,14 +253,15 @@ class ObjParser {
 
   /// The 0-based index of an OBJ index (from 1, or negative: back from the last one defined so far),
   /// -1 for a missing optional one. A positive index past the end is checked in check_indices().
-  int resolve(int index, int defined, const char* what, int line, const std::string& element,
-              const std::string& corner, bool required) const {
+  int resolve(int index, int defined, const char* what, int line, const Element& element, int corner,
+              bool required) const {
     if (index > 0) return index - 1;
     if (index == 0) {
       if (!required) return -1;  // tinyobjloader gives 0 for "no texture coordinate"
-      fail(line, element, corner + what + " index 0 (or not a number)", range(what, defined));
+      fail(line, element, corner_text(corner) + what + " index 0 (or not a number)", range(what, defined));
     }
-    if (index < -defined) fail(line, element, corner + what + " index " + detail::to_text(index), range(what, defined));
+    if (index < -defined)
+      fail(line, element, corner_text(corner) + what + " index " + detail::to_text(index), range(what, defined));
     return defined + index;
   }
 
@@ -285,20 +294,20 @@ class ObjParser {
     std::vector<int> uv_of_vertex(static_cast<std::size_t>(vertices), -1), uv_line(uv_of_vertex.size(), 0);
     for (std::size_t f = 0; f < m_faces.size(); ++f) {
       const Face& face = m_faces[f];
-      const std::string element = "face " + detail::to_text(f + 1);
+      const Element element{"face", f + 1};
       for (int k = 0; k < face.corners; ++k) {
         const Corner& c = m_corners[static_cast<std::size_t>(face.first_corner + k)];
-        const std::string corner = "corner " + detail::to_text(k + 1) + ": ";
+        const auto corner = [k] { return corner_text(k); };
         if (c.vertex >= vertices)
-          fail(face.line, element, corner + "vertex index " + detail::to_text(c.vertex_in_file),
+          fail(face.line, element, corner() + "vertex index " + detail::to_text(c.vertex_in_file),
                vertices == 0 ? "none: the file has no vertices"
                              : "1 to " + detail::to_text(vertices) + " (the file's vertices)");
         if (!m_options.rest_from_uv) continue;
         if (c.uv < 0)
-          fail(face.line, element, corner + "no texture coordinate",
+          fail(face.line, element, corner() + "no texture coordinate",
                "v/vt or v/vt/vn on every corner when the rest shape comes from the uv (rest_from_uv)");
         if (c.uv >= uvs)
-          fail(face.line, element, corner + "texture coordinate index " + detail::to_text(c.uv_in_file),
+          fail(face.line, element, corner() + "texture coordinate index " + detail::to_text(c.uv_in_file),
                uvs == 0 ? "none: the file has no texture coordinates"
                         : "1 to " + detail::to_text(uvs) + " (the file's texture coordinates)");
         int& first = uv_of_vertex[static_cast<std::size_t>(c.vertex)];
@@ -307,7 +316,7 @@ class ObjParser {
           uv_line[static_cast<std::size_t>(c.vertex)] = face.line;
         } else if (!same_uv(first, c.uv)) {
           fail(face.line, element,
-               corner + "vertex " + detail::to_text(c.vertex + 1) + " with uv " + uv_text(c.uv) + " here and " +
+               corner() + "vertex " + detail::to_text(c.vertex + 1) + " with uv " + uv_text(c.uv) + " here and " +
                    uv_text(first) + " on line " + detail::to_text(uv_line[static_cast<std::size_t>(c.vertex)]) +
                    " (a seam of the uv layout)",
                "one uv per vertex (a ClothMesh has one pattern point per vertex): split the vertex along the seam "
