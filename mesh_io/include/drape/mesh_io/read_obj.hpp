@@ -63,7 +63,8 @@ struct MeshRead {
   std::vector<std::string> warnings;
 };
 
-/// The mesh of the OBJ file `path` (Scalar: float or double; coordinates are read in double).
+/// The mesh of the OBJ file `path` (Scalar: float or double). tinyobjloader reads the coordinates
+/// in its own precision (double in Debian's tinyobjloader_double build), converted to Scalar after.
 /// \throws ObjError for a file that cannot be read or holds a defect (docs/mesh.md lists them),
 ///   InvalidParameter for bad `options`.
 template <class Scalar = double>
