@@ -4,14 +4,15 @@
 set -euo pipefail
 
 core=(g++ cmake ninja-build pkg-config libeigen3-dev)
-test=(catch2 libsuitesparse-dev libopenblas-dev)
-viewer=(libosmesa6-dev libpng-dev libcli11-dev libtomlplusplus-dev libsuitesparse-dev libopenblas-dev)
+test=(catch2 libsuitesparse-dev libopenblas-dev libtinyobjloader-dev)
+viewer=(libosmesa6-dev libpng-dev libcli11-dev libtomlplusplus-dev libsuitesparse-dev libopenblas-dev
+        libtinyobjloader-dev)
 bench=(libbenchmark-dev libsuitesparse-dev libopenblas-dev python3 python3-matplotlib)
 fuzz=(clang libclang-rt-14-dev)
 tidy=(clang-tidy libsuitesparse-dev)
 # The Python package (scripts/python.sh): the venv, the headers, Debian's numpy and matplotlib, the viewer's libraries.
 python=(python3 python3-venv python3-dev python3-numpy python3-matplotlib libosmesa6-dev libpng-dev libcli11-dev
-        libtomlplusplus-dev)
+        libtomlplusplus-dev libtinyobjloader-dev)
 
 groups=("$@")
 [ ${#groups[@]} -eq 0 ] && groups=(test viewer bench fuzz tidy python)
