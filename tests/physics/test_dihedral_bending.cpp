@@ -397,13 +397,21 @@ TEST_CASE("dihedral bending: colours share no vertex; the same bits on 1 and 2 t
   std::sort(given.begin(), given.end());
   std::sort(sorted.begin(), sorted.end());
   CHECK(given == sorted);
-  const std::vector<int>& begin = term.colour_begin();
-  REQUIRE(begin.size() >= 2);
-  CHECK(begin.back() == static_cast<int>(given.size()));
-  for (std::size_t c = 0; c + 1 < begin.size(); ++c) {
+  // Chunks of consecutive hinges; the chunks of a colour share no vertex.
+  const std::vector<int>& chunk = term.chunk_begin();
+  const std::vector<int>& colour = term.colour_begin();
+  REQUIRE(colour.size() >= 2);
+  REQUIRE(colour.back() + 1 == static_cast<int>(chunk.size()));
+  CHECK(chunk.back() == static_cast<int>(given.size()));
+  CHECK(chunk.size() > 4);  // several chunks, so two threads share a colour
+  for (std::size_t c = 0; c + 1 < colour.size(); ++c) {
     std::vector<int> nodes;
-    for (int k = begin[c]; k < begin[c + 1]; ++k)
-      for (int node : key(term.hinges()[std::size_t(k)])) nodes.push_back(node);
+    for (int q = colour[c]; q < colour[c + 1]; ++q) {
+      std::set<int> in_chunk;
+      for (int k = chunk[std::size_t(q)]; k < chunk[std::size_t(q) + 1]; ++k)
+        for (int node : key(term.hinges()[std::size_t(k)])) in_chunk.insert(node);
+      nodes.insert(nodes.end(), in_chunk.begin(), in_chunk.end());
+    }
     std::sort(nodes.begin(), nodes.end());
     INFO("colour " << c);
     CHECK(std::adjacent_find(nodes.begin(), nodes.end()) == nodes.end());

@@ -23,9 +23,11 @@
 /// a symmetric system gets the Gauss-Newton part \f$ -k_e \nabla\theta \nabla\theta^T \f$ (negative
 /// semi-definite: the SPD system stays SPD) and the same \f$ \partial f / \partial v \f$.
 ///
-/// Threads: the hinges are sorted into colours in which no two share a vertex; a team takes a
-/// colour at a time, so each vertex receives its hinges' forces and blocks in the same order
-/// whatever the thread count, and threads write the blocks of different rows only.
+/// Threads and memory: the hinges, sorted by their smallest vertex id, form chunks of
+/// consecutive hinges (a patch of the mesh whose rows stay in cache while its hinges write them),
+/// and the chunks are sorted into colours in which no two chunks share a vertex. A team takes a
+/// colour at a time and a thread a whole chunk, so each vertex receives its hinges' forces and
+/// blocks in the same order whatever the thread count, and threads write different rows only.
 
 #include <algorithm>
 #include <array>
@@ -59,8 +61,12 @@ class DihedralBending final : public ForceTerm<Scalar> {
   Scalar damping() const { return m_damping; }
   int node_count() const { return m_node_count; }
 
-  /// The mesh's hinges, sorted by colour: colour c is [colour_begin()[c], colour_begin()[c + 1]).
+  /// Hinges per chunk (the last chunk of the mesh may have fewer).
+  static constexpr int hinges_per_chunk = 64;
+  /// The mesh's hinges in the order they are worked on: chunk q is [chunk_begin()[q],
+  /// chunk_begin()[q + 1]), colour c the chunks [colour_begin()[c], colour_begin()[c + 1]).
   const std::vector<Hinge>& hinges() const { return m_hinges; }
+  const std::vector<int>& chunk_begin() const { return m_chunk_begin; }
   const std::vector<int>& colour_begin() const { return m_colour_begin; }
   /// Hinge k's (of hinges()) stiffness k_e (N m), damping c_e (N m s) and rest angle (rad).
   Scalar hinge_stiffness(int k) const { return m_constants[static_cast<std::size_t>(k)].stiffness; }
@@ -86,7 +92,7 @@ class DihedralBending final : public ForceTerm<Scalar> {
   /// Every pair of the four vertices of each hinge, each pair once (smaller id first), sorted.
   std::vector<std::array<int, 2>> coupled_nodes() const override;
   bool has_derivatives() const override { return m_stiffness > 0 || m_damping > 0; }
-  /// Hinges in colours that share no vertex: a team takes a colour at a time.
+  /// Chunks of hinges in colours that share no vertex: a team takes a colour at a time.
   bool shares_work() const override { return true; }
   void add_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar,
                        ForceDerivatives<Scalar>& out) const override {
@@ -103,9 +109,19 @@ class DihedralBending final : public ForceTerm<Scalar> {
     Scalar stiffness, damping, rest_angle;
   };
 
-  /// Sorts the hinges into colours, greedily in mesh order: each takes the first colour that no
-  /// hinge sharing a vertex with it has taken.
-  void colour_hinges();
+  /// Sorts the hinges by smallest vertex id, cuts them into chunks and sorts the chunks into
+  /// colours, greedily in that order: each takes the first colour that no chunk sharing a vertex
+  /// with it has taken.
+  void arrange_hinges();
+  /// `body(k)` for every hinge k, shared by the calling team a colour at a time, a chunk per thread.
+  template <class Body>
+  void for_each_hinge(Body&& body) const {
+    for (std::size_t c = 0; c + 1 < m_colour_begin.size(); ++c)
+      team_for(m_colour_begin[c], m_colour_begin[c + 1], [&](int q) {
+        const int end = m_chunk_begin[static_cast<std::size_t>(q) + 1];
+        for (int k = m_chunk_begin[static_cast<std::size_t>(q)]; k < end; ++k) body(k);
+      });
+  }
   /// The force into `*f` and the blocks into `*out`, whichever is given.
   void pass(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Ref3X<Scalar>* f,
             ForceDerivatives<Scalar>* out) const;
@@ -119,9 +135,10 @@ class DihedralBending final : public ForceTerm<Scalar> {
 
   Scalar m_stiffness, m_damping;
   int m_node_count = 0;
-  std::vector<Hinge> m_hinges;  // sorted by colour
+  std::vector<Hinge> m_hinges;  // by colour, then chunk
   std::vector<HingeConstants> m_constants;
-  std::vector<int> m_colour_begin;  // colour c: hinges [begin[c], begin[c + 1])
+  std::vector<int> m_chunk_begin;   // chunk q: hinges [begin[q], begin[q + 1])
+  std::vector<int> m_colour_begin;  // colour c: chunks [begin[c], begin[c + 1])
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -229,7 +246,7 @@ DihedralBending<Scalar>::DihedralBending(const ClothMesh<Scalar>& mesh, Scalar s
   mesh.validate("mesh");
   m_node_count = mesh.vertex_count();
   m_hinges = mesh.hinges();
-  colour_hinges();
+  arrange_hinges();
   const Matrix3X<Scalar> rest = mesh.rest_shape();
   m_constants.reserve(m_hinges.size());
   for (const Hinge& h : m_hinges) {
@@ -243,42 +260,65 @@ DihedralBending<Scalar>::DihedralBending(const ClothMesh<Scalar>& mesh, Scalar s
 }
 
 template <class Scalar>
-void DihedralBending<Scalar>::colour_hinges() {
-  const std::size_t hinge_count = m_hinges.size();
-  const auto corners = [&](std::size_t k) {
-    const Hinge& h = m_hinges[k];
-    return std::array<int, 4>{h.a, h.b, h.c, h.d};
+void DihedralBending<Scalar>::arrange_hinges() {
+  const auto corners = [](const Hinge& h) { return std::array<int, 4>{h.a, h.b, h.c, h.d}; };
+  const auto smallest = [&](const Hinge& h) {
+    const std::array<int, 4> v = corners(h);
+    return *std::min_element(v.begin(), v.end());
   };
-  // The hinges of each vertex.
-  std::vector<int> begin(static_cast<std::size_t>(m_node_count) + 1, 0), of_vertex(4 * hinge_count);
-  for (std::size_t k = 0; k < hinge_count; ++k)
-    for (int v : corners(k)) ++begin[static_cast<std::size_t>(v) + 1];
+  std::stable_sort(m_hinges.begin(), m_hinges.end(),
+                   [&](const Hinge& p, const Hinge& q) { return smallest(p) < smallest(q); });
+  const int hinge_count = static_cast<int>(m_hinges.size());
+  const int chunks = (hinge_count + hinges_per_chunk - 1) / hinges_per_chunk;
+  const auto chunk_of = [&](int k) { return k / hinges_per_chunk; };
+  // The chunks of each vertex, each once, ascending.
+  std::vector<int> begin(static_cast<std::size_t>(m_node_count) + 1, 0), of_vertex, last(begin.size(), -1);
+  const auto each_vertex_chunk = [&](auto&& visit) {
+    std::fill(last.begin(), last.end(), -1);
+    for (int k = 0; k < hinge_count; ++k)
+      for (int v : corners(m_hinges[static_cast<std::size_t>(k)]))
+        if (last[static_cast<std::size_t>(v)] != chunk_of(k)) {
+          last[static_cast<std::size_t>(v)] = chunk_of(k);
+          visit(v, chunk_of(k));
+        }
+  };
+  each_vertex_chunk([&](int v, int) { ++begin[static_cast<std::size_t>(v) + 1]; });
   for (std::size_t v = 0; v < static_cast<std::size_t>(m_node_count); ++v) begin[v + 1] += begin[v];
+  of_vertex.resize(static_cast<std::size_t>(begin.back()));
   std::vector<int> next(begin.begin(), begin.end() - 1);
-  for (std::size_t k = 0; k < hinge_count; ++k)
-    for (int v : corners(k)) of_vertex[static_cast<std::size_t>(next[static_cast<std::size_t>(v)]++)] = int(k);
-  // Greedy: stamp the colours of the coloured neighbours, take the first colour not stamped.
-  std::vector<int> colour(hinge_count, -1), stamp;
-  for (std::size_t k = 0; k < hinge_count; ++k) {
-    for (int v : corners(k))
-      for (int q = begin[static_cast<std::size_t>(v)]; q < begin[static_cast<std::size_t>(v) + 1]; ++q) {
-        const int c = colour[static_cast<std::size_t>(of_vertex[static_cast<std::size_t>(q)])];
-        if (c >= 0) stamp[static_cast<std::size_t>(c)] = int(k);
-      }
+  each_vertex_chunk(
+      [&](int v, int q) { of_vertex[static_cast<std::size_t>(next[static_cast<std::size_t>(v)]++)] = q; });
+  // Greedy: stamp the colours of the coloured chunks that share a vertex, take the first colour not stamped.
+  std::vector<int> colour(static_cast<std::size_t>(chunks), -1), stamp;
+  for (int q = 0; q < chunks; ++q) {
+    for (int k = q * hinges_per_chunk; k < std::min(hinge_count, (q + 1) * hinges_per_chunk); ++k)
+      for (int v : corners(m_hinges[static_cast<std::size_t>(k)]))
+        for (int p = begin[static_cast<std::size_t>(v)]; p < begin[static_cast<std::size_t>(v) + 1]; ++p) {
+          const int c = colour[static_cast<std::size_t>(of_vertex[static_cast<std::size_t>(p)])];
+          if (c >= 0) stamp[static_cast<std::size_t>(c)] = q;
+        }
     int c = 0;
-    while (c < static_cast<int>(stamp.size()) && stamp[static_cast<std::size_t>(c)] == int(k)) ++c;
+    while (c < static_cast<int>(stamp.size()) && stamp[static_cast<std::size_t>(c)] == q) ++c;
     if (c == static_cast<int>(stamp.size())) stamp.push_back(-1);
-    colour[k] = c;
+    colour[static_cast<std::size_t>(q)] = c;
   }
-  // Stable counting sort by colour.
+  // Chunks sorted by colour (stable), their hinges with them.
   const std::size_t colours = stamp.size();
   m_colour_begin.assign(colours + 1, 0);
   for (int c : colour) ++m_colour_begin[static_cast<std::size_t>(c) + 1];
   for (std::size_t c = 0; c < colours; ++c) m_colour_begin[c + 1] += m_colour_begin[c];
+  std::vector<int> order(static_cast<std::size_t>(chunks));
   std::vector<int> slot(m_colour_begin.begin(), m_colour_begin.end() - 1);
-  std::vector<Hinge> sorted(hinge_count);
-  for (std::size_t k = 0; k < hinge_count; ++k)
-    sorted[static_cast<std::size_t>(slot[static_cast<std::size_t>(colour[k])]++)] = m_hinges[k];
+  for (int q = 0; q < chunks; ++q)
+    order[static_cast<std::size_t>(slot[static_cast<std::size_t>(colour[static_cast<std::size_t>(q)])]++)] = q;
+  std::vector<Hinge> sorted;
+  sorted.reserve(m_hinges.size());
+  m_chunk_begin.assign(1, 0);
+  for (int q : order) {
+    for (int k = q * hinges_per_chunk; k < std::min(hinge_count, (q + 1) * hinges_per_chunk); ++k)
+      sorted.push_back(m_hinges[static_cast<std::size_t>(k)]);
+    m_chunk_begin.push_back(static_cast<int>(sorted.size()));
+  }
   m_hinges = std::move(sorted);
 }
 
@@ -334,48 +374,47 @@ void DihedralBending<Scalar>::pass(const ConstRef3X<Scalar>& x, const ConstRef3X
   if (!has_derivatives()) return;  // no stiffness, no damping: no force either
   const bool exact = out && !out->symmetric();
   const bool damped = m_damping > 0;
-  for (std::size_t c = 0; c + 1 < m_colour_begin.size(); ++c)
-    team_for(m_colour_begin[c], m_colour_begin[c + 1], [&](int k) {
-      const Hinge& hinge = m_hinges[static_cast<std::size_t>(k)];
-      const HingeConstants& constants = m_constants[static_cast<std::size_t>(k)];
-      const std::array<int, 4> node{hinge.a, hinge.b, hinge.c, hinge.d};
-      detail::HingeGeometry<Scalar> geometry;
-      if (!geometry.init(x.col(node[0]), x.col(node[1]), x.col(node[2]), x.col(node[3]))) return;
-      std::array<Vec3<Scalar>, 4> g;
-      geometry.gradient(g);
-      Scalar rate = 0;  // dtheta/dt = grad(theta) . v
-      if (damped)
-        for (std::size_t i = 0; i < 4; ++i) rate += g[i].dot(v.col(node[i]));
-      // f = -(k_e (theta - theta0) + c_e dtheta/dt) grad(theta)
-      const Scalar magnitude =
-          constants.stiffness * wrapped(geometry.angle - constants.rest_angle) + constants.damping * rate;
-      if (f)
-        for (std::size_t i = 0; i < 4; ++i) f->col(node[i]) -= magnitude * g[i];
-      if (!out) return;
-      if (!exact) {
-        for (std::size_t i = 0; i < 4; ++i)
-          for (std::size_t j = 0; j < 4; ++j) {
-            const Mat3<Scalar> gg = g[i] * g[j].transpose();
-            out->add(node[i], node[j], -constants.stiffness * gg, -constants.damping * gg);
-          }
-        return;
-      }
-      AngleHessian h;
-      geometry.hessian(h);
-      // d(dtheta/dt)/dx_j = sum_m H(j, m) v_m (H symmetric).
-      std::array<Vec3<Scalar>, 4> rate_gradient;
-      for (std::size_t j = 0; j < 4; ++j) {
-        rate_gradient[j].setZero();
-        if (damped)
-          for (std::size_t m = 0; m < 4; ++m) rate_gradient[j] += h[j][m] * v.col(node[m]);
-      }
+  for_each_hinge([&](int k) {
+    const Hinge& hinge = m_hinges[static_cast<std::size_t>(k)];
+    const HingeConstants& constants = m_constants[static_cast<std::size_t>(k)];
+    const std::array<int, 4> node{hinge.a, hinge.b, hinge.c, hinge.d};
+    detail::HingeGeometry<Scalar> geometry;
+    if (!geometry.init(x.col(node[0]), x.col(node[1]), x.col(node[2]), x.col(node[3]))) return;
+    std::array<Vec3<Scalar>, 4> g;
+    geometry.gradient(g);
+    Scalar rate = 0;  // dtheta/dt = grad(theta) . v
+    if (damped)
+      for (std::size_t i = 0; i < 4; ++i) rate += g[i].dot(v.col(node[i]));
+    // f = -(k_e (theta - theta0) + c_e dtheta/dt) grad(theta)
+    const Scalar magnitude =
+        constants.stiffness * wrapped(geometry.angle - constants.rest_angle) + constants.damping * rate;
+    if (f)
+      for (std::size_t i = 0; i < 4; ++i) f->col(node[i]) -= magnitude * g[i];
+    if (!out) return;
+    if (!exact) {
       for (std::size_t i = 0; i < 4; ++i)
         for (std::size_t j = 0; j < 4; ++j) {
-          const Vec3<Scalar> row = constants.stiffness * g[j] + constants.damping * rate_gradient[j];
-          const Mat3<Scalar> dfdx = -magnitude * h[i][j] - g[i] * row.transpose();
-          out->add(node[i], node[j], dfdx, (-constants.damping * g[i]) * g[j].transpose());
+          const Mat3<Scalar> gg = g[i] * g[j].transpose();
+          out->add(node[i], node[j], -constants.stiffness * gg, -constants.damping * gg);
         }
-    });
+      return;
+    }
+    AngleHessian h;
+    geometry.hessian(h);
+    // d(dtheta/dt)/dx_j = sum_m H(j, m) v_m (H symmetric).
+    std::array<Vec3<Scalar>, 4> rate_gradient;
+    for (std::size_t j = 0; j < 4; ++j) {
+      rate_gradient[j].setZero();
+      if (damped)
+        for (std::size_t m = 0; m < 4; ++m) rate_gradient[j] += h[j][m] * v.col(node[m]);
+    }
+    for (std::size_t i = 0; i < 4; ++i)
+      for (std::size_t j = 0; j < 4; ++j) {
+        const Vec3<Scalar> row = constants.stiffness * g[j] + constants.damping * rate_gradient[j];
+        const Mat3<Scalar> dfdx = -magnitude * h[i][j] - g[i] * row.transpose();
+        out->add(node[i], node[j], dfdx, (-constants.damping * g[i]) * g[j].transpose());
+      }
+  });
 }
 
 }  // namespace drape
