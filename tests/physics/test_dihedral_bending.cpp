@@ -214,8 +214,8 @@ TEMPLATE_TEST_CASE("dihedral angle of a hinge folded by a known angle, both sign
   }
   // A mesh of the two triangles: E = k_e (theta - theta0)^2 / 2 with k_e = k 3 |e|^2 / (A1 + A2).
   const double areas = 0.5 * 0.8 + 0.5 * 0.5, stiffness = 0.2;
-  const double k_e = stiffness * 3 / areas;
-  for (const double rest_fold : {0.0, 0.6}) {
+  const double k_e = stiffness * 3 / areas, pi = std::acos(-1.0);
+  for (const double rest_fold : {0.0, 0.6, 2.5}) {
     ClothMesh<S> mesh;
     mesh.positions.resize(3, 4);
     const std::array<Vec3<S>, 4> rest =
@@ -226,12 +226,14 @@ TEMPLATE_TEST_CASE("dihedral angle of a hinge folded by a known angle, both sign
     REQUIRE(term.hinges().size() == 1);
     CHECK(double(term.hinge_stiffness(0)) == Approx(k_e).epsilon(1e-6));
     CHECK(double(term.rest_angle(0)) == Approx(-rest_fold).margin(1e-6));
-    for (const double fold : {0.3, -0.3, -0.6}) {
+    for (const double fold : {0.3, -0.3, -0.6, -2.5}) {
       INFO("rest fold " << rest_fold << ", fold " << fold);
       Matrix3X<S> x(3, 4);
       const std::array<Vec3<S>, 4> p = folded_hinge<S>(fold, turn, shift);
       for (int k = 0; k < 4; ++k) x.col(k) = p[std::size_t(k)];
-      const double strain = -fold + rest_fold;
+      // theta - theta0 in (-pi, pi]: from -2.5 rad to 2.5 rad is 2 pi - 5 the short way round.
+      double strain = -fold + rest_fold;
+      if (strain > pi) strain -= 2 * pi;
       CHECK(double(term.energy(x)) == Approx(0.5 * k_e * strain * strain).epsilon(1e-5).margin(1e-12));
     }
   }

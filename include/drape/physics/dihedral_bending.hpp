@@ -371,7 +371,7 @@ std::vector<std::array<int, 2>> DihedralBending<Scalar>::coupled_nodes() const {
 template <class Scalar>
 void DihedralBending<Scalar>::pass(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Ref3X<Scalar>* f,
                                    ForceDerivatives<Scalar>* out) const {
-  if (!has_derivatives()) return;  // no stiffness, no damping: no force either
+  if (m_stiffness == 0 && m_damping == 0) return;
   const bool exact = out && !out->symmetric();
   const bool damped = m_damping > 0;
   for_each_hinge([&](int k) {
