@@ -65,6 +65,7 @@
 #include "drape/physics/air_drag.hpp"
 #include "drape/physics/aerodynamic_force.hpp"
 #include "drape/physics/air.hpp"
+#include "drape/physics/dihedral_bending.hpp"
 #include "drape/physics/diagnostics.hpp"
 
 // solvers: linear solvers and preconditioners (know nothing of cloth)
