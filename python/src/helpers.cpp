@@ -1,4 +1,4 @@
-// What the binding groups share (helpers.hpp): the spec's air, the busy guard, the scene with
+// What the binding groups share (helpers.hpp): the spec's air and bending, the busy guard, the scene with
 // Python's states, failed steps and the errors InvalidParameter and SimulationError.
 
 #include "helpers.hpp"
@@ -9,6 +9,11 @@
 #include <utility>
 
 #include "bindings.hpp"
+#include "drape/core/mesh_generators.hpp"
+#include "drape/physics/dihedral_bending.hpp"
+#if DRAPE_PYTHON_HAS_MESH_IO
+#include "drape/mesh_io/read_obj.hpp"
+#endif
 
 namespace drape::python {
 
@@ -69,14 +74,31 @@ void bind_errors(nb::module_& m) {
 
 // ---- specs and states ---------------------------------------------------------------------------
 
+drape::ClothMesh<double> read_obj_mesh(const std::string& path, double scale, bool rest_from_uv) {
+#if DRAPE_PYTHON_HAS_MESH_IO
+  drape::mesh_io::ObjOptions options;
+  options.scale = scale;
+  options.rest_from_uv = rest_from_uv;
+  return drape::mesh_io::read_obj<double>(path, options).mesh;
+#else
+  (void)scale;
+  (void)rest_from_uv;
+  throw std::runtime_error("drape: ClothSpec.from_obj('" + path +
+                           "'): this module reads no OBJ files (built without tinyobjloader: install "
+                           "libtinyobjloader-dev and rebuild); ClothSpec.from_mesh takes numpy arrays");
+#endif
+}
+
 drape::ClothSpecd library_spec(const ClothSpecWithAir& spec) {
   spec.validate();
   spec.air.validate();
   drape::ClothSpecd out = spec;
-  if (spec.air.active()) {
-    const drape::Grid<double> grid(spec.nx, spec.ny, spec.spacing, spec.node_mass);
-    for (auto& term : drape::air_force_terms<double>(spec.air, grid.triangles())) out.force_terms.push_back(term);
-  }
+  const drape::ClothMesh<double> mesh = spec.mesh ? *spec.mesh : drape::grid_mesh(spec.nx, spec.ny, spec.spacing);
+  if (spec.air.active())
+    for (auto& term : drape::air_force_terms<double>(spec.air, mesh.all_triangles())) out.force_terms.push_back(term);
+  if (spec.bending != 0 || spec.bending_damping != 0)
+    out.force_terms.push_back(
+        std::make_shared<drape::DihedralBending<double>>(mesh, spec.bending, spec.bending_damping));
   return out;
 }
 

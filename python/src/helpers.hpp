@@ -61,11 +61,18 @@ struct SharedState {
 /// \throws InvalidParameter naming `state` unless it has one node per node of `cloth`.
 void require_fits(const drape::Clothd& cloth, const SharedState& state);
 
-/// ClothSpec plus the air, which drape-render and these bindings turn into the cloth's force terms
-/// (drape::air_force_terms) when the cloth is built: Python cannot define force terms.
+/// ClothSpec plus the air and the dihedral bending, which drape-render and these bindings turn into
+/// the cloth's force terms (drape::air_force_terms, drape::DihedralBending) when the cloth is built:
+/// Python cannot define force terms.
 struct ClothSpecWithAir : drape::ClothSpecd {
   drape::AirSettings air;
+  double bending = 0;          ///< N m: dihedral bending stiffness (0: off)
+  double bending_damping = 0;  ///< N m s
 };
+
+/// The mesh of an OBJ file (drape::mesh_io). \throws InvalidParameter naming the file, line and
+/// element, or std::runtime_error if the module was built without the OBJ reader.
+drape::ClothMesh<double> read_obj_mesh(const std::string& path, double scale, bool rest_from_uv);
 
 /// The spec with the air's force terms, as drape::Cloth takes it.
 drape::ClothSpecd library_spec(const ClothSpecWithAir& spec);

@@ -52,6 +52,26 @@ drape::Matrix3X<double> matrix_of(const NodeInput& a) {
   return m;
 }
 
+using TriangleInput = nb::ndarray<const int, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using UvInput = nb::ndarray<const double, nb::shape<-1, 2>, nb::c_contig, nb::device::cpu>;
+
+/// The ClothMesh of numpy arrays (checked when the cloth is built).
+drape::ClothMesh<double> mesh_of(const NodeInput& vertices, const TriangleInput& triangles,
+                                 const std::optional<UvInput>& rest_uv) {
+  drape::ClothMesh<double> mesh;
+  mesh.positions = matrix_of(vertices);
+  const int* t = triangles.data();
+  for (std::size_t k = 0; k < triangles.shape(0); ++k) mesh.triangles.push_back({t[3 * k], t[3 * k + 1], t[3 * k + 2]});
+  if (rest_uv) {
+    if (rest_uv->shape(0) != vertices.shape(0))
+      drape::detail::fail_argument("rest_uv", "an array of " + std::to_string(rest_uv->shape(0)) + " rows",
+                                   "(n, 2) with n = " + std::to_string(vertices.shape(0)) + " (one per vertex)");
+    mesh.rest_uv.resize(2, Index(rest_uv->shape(0)));
+    std::copy(rest_uv->data(), rest_uv->data() + 2 * rest_uv->shape(0), mesh.rest_uv.data());
+  }
+  return mesh;
+}
+
 nb::ndarray<nb::numpy, int, nb::shape<-1, 3>> triangle_array(const std::vector<std::array<int, 3>>& triangles) {
   auto* data = new std::vector<std::array<int, 3>>(triangles);
   nb::capsule owner(data, [](void* p) noexcept { delete static_cast<std::vector<std::array<int, 3>>*>(p); });
@@ -324,6 +344,36 @@ void bind_spec_and_cloth(nb::module_& m) {
           "Keyword arguments set the fields of the same name (None keeps the default); structural, shear and "
           "bend replace one category of `springs` each (a SpringParams or (stiffness, damping)). Nothing is "
           "checked until validate() or Cloth(spec).")
+      .def_static(
+          "from_mesh",
+          [](const NodeInput& vertices, const TriangleInput& triangles, std::optional<UvInput> rest_uv) {
+            ClothSpecWithAir spec;
+            spec.mesh = mesh_of(vertices, triangles, rest_uv);
+            return spec;
+          },
+          "vertices"_a, "triangles"_a, "rest_uv"_a = nb::none(),
+          "A cloth of any triangle mesh: vertices (n, 3) in m where the cloth starts (before `placement`), "
+          "triangles (m, 3) of vertex ids counter-clockwise seen from the front, and optionally rest_uv (n, 2), a "
+          "flat pattern in m that sets the rest shape (else the vertices do). No node is pinned (set pinned_nodes); "
+          "the other fields keep their defaults. The mesh is checked by validate() or Cloth(spec) (docs/mesh.md).")
+      .def_static(
+          "from_obj",
+          [](const std::string& path, double scale, bool rest_from_uv) {
+            ClothSpecWithAir spec;
+            spec.mesh = read_obj_mesh(path, scale, rest_from_uv);
+            return spec;
+          },
+          "path"_a, "scale"_a = 1.0, "rest_from_uv"_a = false,
+          "A cloth of the mesh of an OBJ file (triangles and quads; `scale` m per file unit; rest_from_uv: its vt "
+          "as the rest pattern), as from_mesh. Raises InvalidParameter naming the file, line and element.")
+      .def_prop_ro(
+          "has_mesh", [](const ClothSpecWithAir& s) { return s.mesh.has_value(); },
+          "True for a spec of from_mesh or from_obj (nx, ny and spacing are then unused).")
+      .def_rw("areal_density", &ClothSpecWithAir::areal_density,
+              "kg/m^2 or None: each node weighs its share of the rest area times this, instead of node_mass.")
+      .def_rw("bending", &ClothSpecWithAir::bending,
+              "N m: dihedral-angle bending stiffness, >= 0 (0: off; docs/bending.md).")
+      .def_rw("bending_damping", &ClothSpecWithAir::bending_damping, "N m s: dihedral bending damping, >= 0.")
       .def_rw("nx", &ClothSpecWithAir::nx, "Nodes along x, [2, 10000].")
       .def_rw("ny", &ClothSpecWithAir::ny, "Nodes along z, [2, 10000].")
       .def_rw("spacing", &ClothSpecWithAir::spacing, "m between neighbours, > 0.")

@@ -236,3 +236,47 @@ def test_colliders_air_and_a_scene_of_two_cloths():
     assert scene.integrator(0).contact_report.contacts > 0
     with pytest.raises(IndexError):
         scene.state(2)
+
+
+def jittered_patch(n=8, h=0.05, seed=3):
+    """An n x n patch h apart in the x-z plane, interior vertices moved, cells split at random."""
+    rng = np.random.default_rng(seed)
+    i, j = np.meshgrid(np.arange(n, dtype=float), np.arange(n, dtype=float))
+    x, z = i.ravel(), j.ravel()
+    interior = (x > 0) & (x < n - 1) & (z > 0) & (z < n - 1)
+    x[interior] += rng.uniform(-0.25, 0.25, interior.sum())
+    z[interior] += rng.uniform(-0.25, 0.25, interior.sum())
+    vertices = np.column_stack([x * h, np.zeros(n * n), z * h])
+    triangles = []
+    for jj in range(n - 1):
+        for ii in range(n - 1):
+            a, b, c, d = jj * n + ii, jj * n + ii + 1, (jj + 1) * n + ii + 1, (jj + 1) * n + ii
+            triangles += [[a, d, c], [a, c, b]] if rng.random() < 0.5 else [[a, d, b], [b, d, c]]
+    return vertices, np.array(triangles, dtype=np.int32)
+
+
+def test_a_cloth_of_any_mesh_from_numpy_hangs_from_its_pins():
+    vertices, triangles = jittered_patch()
+    spec = drape.ClothSpec.from_mesh(vertices, triangles)
+    assert spec.has_mesh
+    spec.pinned_nodes = [0, 7]
+    spec.areal_density = 0.2
+    spec.bending = 1e-4
+    spec.springs.structural.stiffness, spec.springs.shear.stiffness, spec.springs.bend.stiffness = 200, 50, 5
+    cloth = drape.Cloth(spec)
+    assert cloth.node_count == 64 and np.array_equal(cloth.triangles, triangles)
+    state = cloth.initial_state()
+    np.testing.assert_array_equal(state.positions, vertices)
+    drape.ImplicitEuler(cloth, dt=0.01).run(state, 1.0)
+    assert np.isfinite(state.positions).all()
+    assert state.positions[63, 1] < -0.2  # the far corner has swung down
+    np.testing.assert_array_equal(state.positions[[0, 7]], vertices[[0, 7]])
+
+
+def test_a_bad_mesh_names_the_element():
+    vertices, triangles = jittered_patch()
+    triangles[5, 2] = 64
+    with pytest.raises(drape.InvalidParameter, match=r"mesh\.triangles\[5\]"):
+        drape.Cloth(drape.ClothSpec.from_mesh(vertices, triangles))
+    with pytest.raises(drape.InvalidParameter, match="rest_uv"):
+        drape.ClothSpec.from_mesh(vertices, triangles, rest_uv=np.zeros((3, 2)))

@@ -6,7 +6,9 @@
 #include <string>
 #include <utility>
 
+#include "drape/core/mesh_generators.hpp"
 #include "drape/io/state_io.hpp"
+#include "drape/physics/dihedral_bending.hpp"
 #include "drape/viewer/collider_mesh.hpp"
 #include "error_names.hpp"
 
@@ -59,6 +61,13 @@ drape::Clothd make_cloth(const Settings& s, const drape::ClothSpecd& spec) {
 int pin_node(const Settings& s, const PinSpec& pin) {
   const int nx = s.cloth.nx, ny = s.cloth.ny;
   const std::string where = "scene file '" + s.scene + "': " + pin.key;
+  if (s.cloth.mesh && !s.cloth.mesh->lattice) {  // a mesh's nodes have ids only
+    const int n = s.cloth.mesh->vertex_count();
+    if (pin.grid_node) fail(where + ".node", "[i, j] on a mesh cloth", "id = k, a vertex of the mesh");
+    if (pin.id < 0 || pin.id >= n)
+      fail(where + ".id", std::to_string(pin.id), "a vertex of the mesh: [0, " + std::to_string(n - 1) + "]");
+    return pin.id;
+  }
   if (pin.grid_node) {
     const auto [i, j] = *pin.grid_node;
     if (i < 0 || i >= nx || j < 0 || j >= ny)
@@ -77,6 +86,7 @@ std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::Cloth
   std::vector<drape::ClothSpecd> specs = {first};
   for (const ExtraCloth& c : s.extra_cloths) {
     drape::ClothSpecd spec = first;
+    spec.mesh.reset();  // a [[cloths]] table is a grid of its own
     spec.nx = c.nx.value_or(first.nx);
     spec.ny = c.ny.value_or(first.ny);
     spec.spacing = c.spacing.value_or(first.spacing);
@@ -120,11 +130,22 @@ std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::Cloth
   return specs;
 }
 
+namespace {
+/// The first cloth's mesh: its own, or the grid's.
+drape::ClothMesh<double> first_mesh(const Settings& s) {
+  return s.cloth.mesh ? *s.cloth.mesh : drape::grid_mesh<double>(s.cloth.nx, s.cloth.ny, s.cloth.spacing);
+}
+}  // namespace
+
 std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(const Settings& s) {
   s.air.validate();
   if (!s.air.active()) return {};
-  const drape::Grid<double> grid(s.cloth.nx, s.cloth.ny, s.cloth.spacing, s.cloth.node_mass);
-  return drape::air_force_terms<double>(s.air, grid.triangles());
+  return drape::air_force_terms<double>(s.air, first_mesh(s).all_triangles());
+}
+
+std::shared_ptr<const drape::ForceTerm<double>> bending_term(const Settings& s) {
+  if (s.mesh.bending == 0 && s.mesh.bending_kd == 0) return nullptr;
+  return std::make_shared<drape::DihedralBending<double>>(first_mesh(s), s.mesh.bending, s.mesh.bending_kd);
 }
 
 double run_length(const Settings& s) {
@@ -166,6 +187,7 @@ PreparedScene prepare_scene(const Settings& s) {
   // The scene plus the air's force terms (none in still air, so such a run is unchanged).
   scene.first = s.cloth;
   for (auto& term : air_force_terms(s)) scene.first.force_terms.push_back(std::move(term));
+  if (auto bending = bending_term(s)) scene.first.force_terms.push_back(std::move(bending));
   std::optional<drape::Clothd> cloth;
   cloth.emplace(make_cloth(s, scene.first));
   // Inputs are checked before any simulation or rendering.

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -16,6 +17,7 @@
 #include "drape/solvers/enable_ldlt.hpp"
 #include "drape/solvers/enable_lu.hpp"
 #include "error_names.hpp"
+#include "resolve_mesh.hpp"
 #include "tables.hpp"
 #include "toml_values.hpp"
 
@@ -256,6 +258,57 @@ void bind_self_collision(Bindings& bind, Settings& s) {
              self);
 }
 
+/// A flag of `count` numbers, an array of `count` numbers in the scene file.
+template <std::size_t N>
+void bind_numbers(Bindings& bind, const std::string& key, std::array<double, N>& field, const std::string& help,
+                  const char* group) {
+  CLI::Option* opt = bind.app().add_option_function<std::vector<double>>(
+      "--" + key, [&field](const std::vector<double>& v) { std::copy(v.begin(), v.end(), field.begin()); }, help);
+  std::string defaults;
+  for (double v : field) defaults += (defaults.empty() ? "" : " ") + number(v);
+  opt->expected(int(N))->type_name("FLOAT")->default_str(defaults)->group(group);
+  bind.keyed(key, opt, [&field, key](const toml::node& n, const std::string& file) {
+    const std::vector<double> v = from_toml<std::vector<double>>(n, key, file);
+    if (v.size() != N) bad_key(file, key, "must be an array of " + std::to_string(N) + " numbers");
+    std::copy(v.begin(), v.end(), field.begin());
+  });
+}
+
+void bind_mesh(Bindings& bind, Settings& s) {
+  MeshSource& m = s.mesh;
+  const char* mesh = "Cloth mesh (instead of the nx x ny grid; docs/mesh.md)";
+  CLI::Option* file = bind.app().add_option("--mesh", m.file,
+                                            "OBJ file of the cloth's mesh (scene file: relative to the scene file's "
+                                            "folder); its triangles and quads, groups, and vt with --rest-from-uv");
+  file->group(mesh);
+  bind.keyed("mesh", file, [&m](const toml::node& n, const std::string& scene) {
+    const std::filesystem::path path = from_toml<std::string>(n, "mesh", scene);
+    m.file = (path.is_absolute() ? path : std::filesystem::path(scene).parent_path() / path).string();
+  });
+  bind.value("shape", m.shape, "grid (nx, ny, spacing) | disk (--radius) | rectangle-with-hole (--size, --hole-*)",
+             mesh);
+  bind.value("radius", m.radius, "disk: radius in m, > 0", mesh);
+  bind_numbers(bind, "size", m.size, "W H: rectangle-with-hole: width (x) and height (z) in m", mesh);
+  bind.value("hole-radius", m.hole_radius, "rectangle-with-hole: the hole's radius in m", mesh);
+  bind_numbers(bind, "hole-centre", m.hole_centre, "X Z: rectangle-with-hole: the hole's centre in m from the corner",
+               mesh);
+  bind.value("edge-length", m.edge_length, "disk, rectangle-with-hole: target edge length in m, > 0", mesh);
+  bind.value("scale", m.scale, "--mesh: metres per unit of the OBJ file, > 0", mesh);
+  bind.value("rest-from-uv", m.rest_from_uv, "--mesh: the rest shape is the flat pattern of the file's vt", mesh);
+  bind.value("density", m.density, "mass per area in kg/m^2 (lumped per node) instead of --mass per node, >= 0 (0: off)",
+             mesh);
+  CLI::Option* groups = bind.converted<std::vector<std::string>>(
+      "pin-groups", "", [&m](const std::vector<std::string>& names) { m.pin_groups = names; },
+      "pin the nodes of these groups of the mesh (an OBJ file's g and o; generated meshes: boundary, hole, ...)", mesh);
+  groups->expected(1, 1 << 30);
+  CLI::Option* box = bind.converted<std::vector<double>>(
+      "pin-box", "", [&m](const std::vector<double>& corners) { m.pin_box = corners; },
+      "X0 Y0 Z0 X1 Y1 Z1: pin the nodes that start inside this box (m)", mesh);
+  box->expected(6)->type_name("FLOAT");
+  bind.value("bending", m.bending, "dihedral-angle bending stiffness in N m, >= 0 (0: off; docs/bending.md)", mesh);
+  bind.value("bending-kd", m.bending_kd, "dihedral-angle bending damping in N m s, >= 0", mesh);
+}
+
 void bind_placement(Bindings& bind, Settings& s) {
   const char* placement = "Placement and more cloths (scene file: also the tables [[cloths]], docs/viewer.md)";
   bind.vector_as("--position", "position", s.position,
@@ -397,6 +450,7 @@ struct CommandLine {
     bind_contact(bind, s);
     bind_self_collision(bind, s);
     bind_placement(bind, s);
+    bind_mesh(bind, s);
     time = bind_time_line(bind, s);
     bind_output(bind, s);
   }
@@ -424,6 +478,7 @@ struct CommandLine {
     add_sphere(s);
     s.cloth.placement.position = vec3(s.position);
     s.cloth.placement.rotation_degrees = vec3(s.rotation);
+    resolve_mesh(s);
     detail::validate(s, from_file);
   }
 };

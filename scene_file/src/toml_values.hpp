@@ -20,7 +20,7 @@ namespace drape::scene_file::detail {
 }
 
 /// The value of `n` as a T: double, int, bool, std::uint64_t, std::string, std::vector<double>,
-/// std::array<double, 3> or std::vector<int>. \throws SettingsError naming `key`.
+/// std::array<double, 3>, std::vector<int> or std::vector<std::string>. \throws SettingsError naming `key`.
 template <class T>
 T from_toml(const toml::node& n, const std::string& key, const std::string& file) {
   if constexpr (std::is_same_v<T, double>) {
@@ -52,6 +52,12 @@ T from_toml(const toml::node& n, const std::string& key, const std::string& file
     if (!a || a->size() != 3) bad_key(file, key, "must be an array of 3 numbers [x, y, z]");
     return {from_toml<double>((*a)[0], key, file), from_toml<double>((*a)[1], key, file),
             from_toml<double>((*a)[2], key, file)};
+  } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+    const toml::array* a = n.as_array();
+    if (!a) bad_key(file, key, "must be an array of strings");
+    std::vector<std::string> out;
+    for (const toml::node& e : *a) out.push_back(from_toml<std::string>(e, key, file));
+    return out;
   } else {
     static_assert(std::is_same_v<T, std::vector<int>>, "unsupported setting type");
     const toml::array* a = n.as_array();

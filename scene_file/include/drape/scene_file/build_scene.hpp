@@ -30,9 +30,14 @@ struct PreparedScene {
 /// flag or key), drape::InvalidParameter for a check with no flag of its own.
 PreparedScene prepare_scene(const Settings& s);
 
-/// The force terms of `s.air` for the cloth of `s.cloth` (drape::air_force_terms()); none when the
+/// The force terms of `s.air` for the cloth of `s.cloth` (drape::air_force_terms() on its mesh's or
+/// grid's triangles); none when the
 /// air exerts no force (AirSettings::active() is false), so a still-air run is unchanged.
 std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(const Settings& s);
+
+/// The dihedral bending term of `s.mesh` (--bending, --bending-kd) on the first cloth's mesh;
+/// null when both are 0.
+std::shared_ptr<const drape::ForceTerm<double>> bending_term(const Settings& s);
 
 /// The height of the floor (drawn, and the floor collider) if the settings fix it: --floor-height,
 /// else the highest static plane collider whose normal is +y; nullopt: the camera puts it just

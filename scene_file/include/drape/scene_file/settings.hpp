@@ -27,6 +27,7 @@
 #include "drape/integrators/integrator.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/realtime/realtime_driver.hpp"
+#include "drape/scene_file/mesh_source.hpp"
 
 namespace drape::scene_file {
 
@@ -109,6 +110,9 @@ struct Settings {
   std::string load_state;  ///< start from this saved state
 
   drape::ClothSpecd cloth;                  ///< the scene (library defaults): the first cloth
+  /// The first cloth's mesh when it is not the grid, its density, pins by group and box, bending
+  /// (turned into cloth.mesh, cloth.areal_density and cloth.pinned_nodes as the settings are read).
+  MeshSource mesh;
   std::array<double, 3> position{0, 0, 0};  ///< --position: the first cloth's placement (m)
   std::array<double, 3> rotation{0, 0, 0};  ///< --rotation: degrees about x, then y, then z
   /// The [[cloths]] tables of the scene file: more cloths, colliding with the first and each other

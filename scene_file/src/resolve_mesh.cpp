@@ -1,0 +1,109 @@
+#include "resolve_mesh.hpp"
+
+#include <cmath>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "drape/core/mesh_generators.hpp"
+#include "error_names.hpp"
+#if DRAPE_SCENE_FILE_HAS_MESH_IO
+#include "drape/mesh_io/read_obj.hpp"
+#endif
+
+namespace drape::scene_file::detail {
+
+namespace {
+
+drape::ClothMesh<double> read_mesh_file(const MeshSource& m) {
+#if DRAPE_SCENE_FILE_HAS_MESH_IO
+  drape::mesh_io::ObjOptions options;
+  options.scale = m.scale;
+  options.rest_from_uv = m.rest_from_uv;
+  try {
+    return drape::mesh_io::read_obj<double>(m.file, options).mesh;
+  } catch (const drape::mesh_io::ObjError& e) {
+    throw SettingsError("--mesh: " + std::string(e.what()));
+  } catch (const InvalidParameter& e) {
+    fail(e.parameter() == "ObjOptions::scale" ? "--scale" : "--mesh", e.value(), e.allowed());
+  }
+#else
+  throw SettingsError("--mesh '" + m.file +
+                      "': this build reads no OBJ files (it was built without tinyobjloader: "
+                      "apt-get install libtinyobjloader-dev and rebuild)");
+#endif
+}
+
+drape::ClothMesh<double> generated_mesh(const MeshSource& m) {
+  try {
+    if (m.shape == "disk") return drape::disk_mesh<double>(m.radius, m.edge_length);
+    return drape::rectangle_with_hole_mesh<double>(m.size[0], m.size[1], {m.hole_centre[0], m.hole_centre[1]},
+                                                   m.hole_radius, m.edge_length);
+  } catch (const InvalidParameter& e) {
+    throw SettingsError("--shape " + m.shape + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+void resolve_mesh(Settings& s) {
+  const MeshSource& m = s.mesh;
+  const std::vector<std::string> shapes = {"grid", "disk", "rectangle-with-hole"};
+  if (std::find(shapes.begin(), shapes.end(), m.shape) == shapes.end())
+    fail("--shape", "'" + m.shape + "'", "grid | disk | rectangle-with-hole");
+  if (!m.file.empty() && m.shape != "grid")
+    fail("--shape", "'" + m.shape + "' with --mesh", "grid (the default) when --mesh gives the mesh");
+  if (!(std::isfinite(m.scale) && m.scale > 0)) fail("--scale", number(m.scale), "finite and > 0");
+  if (!(std::isfinite(m.density) && m.density >= 0)) fail("--density", number(m.density), "finite and >= 0 kg/m^2");
+  if (!(std::isfinite(m.bending) && m.bending >= 0)) fail("--bending", number(m.bending), "finite and >= 0 N m");
+  if (!(std::isfinite(m.bending_kd) && m.bending_kd >= 0))
+    fail("--bending-kd", number(m.bending_kd), "finite and >= 0 N m s");
+  if (!m.pin_box.empty()) {
+    if (m.pin_box.size() != 6) fail("--pin-box", std::to_string(m.pin_box.size()) + " numbers", "6: X0 Y0 Z0 X1 Y1 Z1");
+    for (int k = 0; k < 3; ++k)
+      if (!(m.pin_box[std::size_t(k)] <= m.pin_box[std::size_t(k) + 3]))
+        fail("--pin-box", "a box with X0 > X1, Y0 > Y1 or Z0 > Z1 (or a non-finite corner)",
+             "finite corners X0 Y0 Z0 <= X1 Y1 Z1");
+  }
+  if (m.density > 0) s.cloth.areal_density = m.density;
+  if (m.is_mesh()) s.cloth.mesh = m.file.empty() ? generated_mesh(m) : read_mesh_file(m);
+  if (m.pin_groups.empty() && m.pin_box.empty()) return;
+
+  // Pins by group and box join the pins by id (--pins); without --pins, the boundary preset's
+  // corners only on a grid.
+  const drape::ClothMesh<double> mesh =
+      s.cloth.mesh ? *s.cloth.mesh : drape::grid_mesh<double>(s.cloth.nx, s.cloth.ny, s.cloth.spacing);
+  std::vector<int> pinned = s.cloth.pinned_nodes ? *s.cloth.pinned_nodes : std::vector<int>{};
+  if (!s.cloth.pinned_nodes && !s.cloth.mesh) {
+    const drape::Grid<double> grid(s.cloth.nx, s.cloth.ny, s.cloth.spacing, s.cloth.node_mass);
+    pinned = drape::Pins::preset(s.cloth.boundary, grid).nodes();
+  }
+  for (const std::string& group : m.pin_groups) {
+    const auto it = mesh.groups.find(group);
+    if (it == mesh.groups.end()) {
+      std::string names;
+      for (const auto& [name, nodes] : mesh.groups) names += (names.empty() ? "" : ", ") + name;
+      fail("--pin-groups", "'" + group + "'", "a group of the mesh: " + (names.empty() ? "(it has none)" : names));
+    }
+    pinned.insert(pinned.end(), it->second.begin(), it->second.end());
+  }
+  if (!m.pin_box.empty()) {
+    const drape::Matrix3X<double> start = s.cloth.placement.apply(mesh.positions);
+    std::size_t inside = 0;
+    for (Eigen::Index v = 0; v < start.cols(); ++v) {
+      bool in = true;
+      for (int k = 0; k < 3; ++k)
+        in = in && start(k, v) >= m.pin_box[std::size_t(k)] && start(k, v) <= m.pin_box[std::size_t(k) + 3];
+      if (in) {
+        pinned.push_back(int(v));
+        ++inside;
+      }
+    }
+    if (inside == 0) fail("--pin-box", "a box that holds no node at the start", "a box around the nodes to pin");
+  }
+  s.cloth.pinned_nodes = pinned;
+}
+
+}  // namespace drape::scene_file::detail
