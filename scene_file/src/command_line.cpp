@@ -357,6 +357,10 @@ void bind_output(Bindings& bind, Settings& s) {
   bind.value("video", o.video, "assemble the frames into a video (.mp4 .gif .webm .mkv) with ffmpeg", output);
   bind.value("debug-gl", o.debug_gl, "report OpenGL errors and warnings (KHR_debug)", output);
   bind.value("quiet", o.quiet, "no progress bar and no summary line", output);
+  bind.value("cusick-disk", o.cusick_disk,
+             "R: print the Cusick drape coefficient and folds of the last frame over a support disk of radius R "
+             "(m) centred on x = z = 0, >= 0 (0: off; docs/cusick.md)",
+             output);
 }
 
 // ---- the scene file ----------------------------------------------------------------------------

@@ -84,6 +84,7 @@ void validate(const Settings& s, const FileKeys& from_file) {
   if (!std::isfinite(o.azimuth)) fail("--azimuth", number(o.azimuth), "finite degrees");
   if (!(o.elevation >= -85 && o.elevation <= 85)) fail("--elevation", number(o.elevation), "[-85, 85] degrees");
   if (o.out.empty()) fail("--out", "''", "a folder path");
+  if (!(std::isfinite(o.cusick_disk) && o.cusick_disk >= 0)) fail("--cusick-disk", number(o.cusick_disk), ">= 0 m");
   if (!o.video.empty()) {
     const std::size_t dot = o.video.rfind('.');
     const std::string ext = dot == std::string::npos ? "" : o.video.substr(dot);

@@ -25,6 +25,7 @@
 #include "drape/io/state_io.hpp"
 #include "drape/model/cloth.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/physics/drape_measures.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/realtime/realtime_driver.hpp"
 #include "drape/scene/cloth_scene.hpp"
@@ -528,6 +529,14 @@ int run(const Settings& s) {
     run.offline();
 
   if (!s.output.save_state.empty()) drape::save_state(s.output.save_state, run.state());
+  if (s.output.cusick_disk > 0) {
+    // The specimen's radius: half its rest shape's longest side (a disk's diameter).
+    const double specimen = 0.5 * drape::viewer::longest_side(cloth);
+    const drape::DrapeMeasures<double> m = drape::measure_drape<double>(
+        run.state().positions, cloth.triangles(), drape::Vec3<double>::Zero(), s.output.cusick_disk, specimen);
+    std::printf("drape coefficient %.4f, %d folds (support disk radius %.4g m, specimen radius %.4g m, t = %.4g s)\n",
+                m.drape_coefficient, m.fold_count, s.output.cusick_disk, specimen, run.state().time);
+  }
   const double wall = run.wall_seconds();
   if (!s.output.video.empty() && !make_video(s, run.frames_written()))
     stop(exit_runtime_error,

@@ -64,6 +64,9 @@ struct Output {
   std::string video;
   bool debug_gl = false;
   bool quiet = false;
+  /// --cusick-disk R: m; > 0: report the Cusick drape coefficient and folds of the last frame
+  /// over a support disk of radius R centred on x = z = 0 (physics/drape_measures.hpp).
+  double cusick_disk = 0;
 };
 
 /// The floor the viewer draws, and whether it is a collider.
