@@ -628,24 +628,25 @@ TEST_CASE("amg: chosen by name, needs no lattice, and steps an implicit cloth wi
   ImplicitOptions options;
   options.dt = 1.0 / 60;
   options.threads = 1;
-  options.tolerance = 1e-10;
-  options.contact_rounds = 1;  // the contact set chosen before the solve: the same system for both
   options.preconditioner = PreconditionerKind::AlgebraicMultigrid;
-  ImplicitEuler<double> with_amg(cloth, options);
-  options.preconditioner = PreconditionerKind::BlockJacobi;
-  ImplicitEuler<double> with_jacobi(cloth, options);
+  ImplicitEuler<double> integrator(cloth, options);
   State<double> state = cloth.initial_state();
   int most_contacts = 0;
   for (int k = 0; k < 40; ++k) {
-    REQUIRE(with_amg.step(state).ok());
-    most_contacts = std::max(most_contacts, with_amg.contact_report().contacts);
+    REQUIRE(integrator.step(state).ok());
+    most_contacts = std::max(most_contacts, integrator.contact_report().contacts);
   }
   CHECK(most_contacts > 20);
-  State<double> a = state, b = state;
-  const StepStatus sa = with_amg.step(a);
-  REQUIRE(sa.ok());
-  REQUIRE(with_jacobi.step(b).ok());
-  CHECK(with_amg.contact_report().contacts == with_jacobi.contact_report().contacts);
-  CHECK((a.positions - b.positions).cwiseAbs().maxCoeff() <= 1e-8);
-  CHECK((a.velocities - b.velocities).cwiseAbs().maxCoeff() <= 1e-6);
+  for (int node = 0; node < cloth.node_count(); ++node)
+    CHECK((state.positions.col(node) - Vec3<double>(0.8, -0.6, 0.8)).norm() >= 0.5);
+  // The last step's system, with its contacts: block-Jacobi CG's answer.
+  const LinearSystem<double>& system = integrator.system();
+  int held = 0;
+  for (int r = 0; r < system.block_rows(); ++r) held += system.constraints.kind(r) == ConstraintKind::Projected;
+  CHECK(held > 20);
+  const Solve<double> amg = pcg(system, PreconditionerKind::AlgebraicMultigrid, 1e-10);
+  const Solve<double> jacobi = pcg(system, PreconditionerKind::BlockJacobi, 1e-10);
+  REQUIRE(amg.status.ok());
+  REQUIRE(jacobi.status.ok());
+  CHECK((amg.x - jacobi.x).norm() <= 1e-7 * jacobi.x.norm());
 }

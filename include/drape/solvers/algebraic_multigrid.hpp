@@ -91,10 +91,10 @@ class AlgebraicMultigrid final : public Preconditioner<Scalar> {
   /// The largest eigenvalue of the Lanczos tridiagonal of \f$ D^{-1} A_l \f$ after `spectral_steps`
   /// steps from a fixed start (a lower bound of the spectral radius, close after a few steps).
   double spectral_radius(int l, bool shared);
-  /// Sum over rows [0, rows) of `term(row)`, in fixed chunks of rows added in order: the same bits
-  /// for any team (every thread gets the sum).
-  template <class Term>
-  double chunked_sum(int rows, bool shared, Term&& term);
+  /// The sum over rows [0, rows) of `chunk(begin, end)`, the sum of a chunk of rows: fixed chunks
+  /// added in order, the same bits for any team (every thread gets the sum).
+  template <class Chunk>
+  double chunked_sum(int rows, bool shared, Chunk&& chunk);
   bool factorise_coarsest();
   const Scalar* rhs(int l) const { return l == 0 ? m_r_in : m_vectors[static_cast<std::size_t>(l)].b.data(); }
   Scalar* iterate(int l) { return l == 0 ? m_z_out : m_vectors[static_cast<std::size_t>(l)].x.data(); }
@@ -110,7 +110,7 @@ class AlgebraicMultigrid final : public Preconditioner<Scalar> {
   std::vector<Scalar> m_omega;                   // per level: the smoother's weight
   std::vector<Scalar> m_prolongator_omega;       // per level l >= 1: the weight of P to it
   std::vector<LevelVectors> m_vectors;
-  VectorX<Scalar> m_lanczos[3];  // Lanczos vectors, as long as level 0's
+  VectorX<Scalar> m_lanczos[4];  // Lanczos vectors and a zero vector, as long as level 0's
   std::vector<double> m_chunks;  // chunked_sum()'s partial sums
   const BlockSparseMatrix<Scalar>* m_fine = nullptr;
   BlockSparseMatrix<Scalar> m_filtered;  // S A S + I - S of a system with constraints
@@ -213,13 +213,11 @@ void AlgebraicMultigrid<Scalar>::filter(const LinearSystem<Scalar>& system, bool
 }
 
 template <class Scalar>
-template <class Term>
-double AlgebraicMultigrid<Scalar>::chunked_sum(int rows, bool shared, Term&& term) {
+template <class Chunk>
+double AlgebraicMultigrid<Scalar>::chunked_sum(int rows, bool shared, Chunk&& chunk) {
   const int chunks = (rows + chunk_rows - 1) / chunk_rows;
   team_for_if(shared, chunks, [&](int c) {
-    double s = 0;
-    for (int r = c * chunk_rows; r < std::min(rows, (c + 1) * chunk_rows); ++r) s += term(r);
-    m_chunks[static_cast<std::size_t>(c)] = s;
+    m_chunks[static_cast<std::size_t>(c)] = chunk(c * chunk_rows, std::min(rows, (c + 1) * chunk_rows));
   });
   double sum = 0;
   for (int c = 0; c < chunks; ++c) sum += m_chunks[static_cast<std::size_t>(c)];
@@ -234,16 +232,19 @@ double AlgebraicMultigrid<Scalar>::spectral_radius(int l, bool shared) {
   const BlockSparseMatrix<Scalar>& a = matrix(l);
   const BlockJacobi<Scalar>& jacobi = m_smoothers[static_cast<std::size_t>(l)];
   const int rows = a.block_rows();
-  const int* rb = a.row_begin().data();
-  const int* col = a.column().data();
   const int* diagonal = a.diagonal().data();
   const Scalar* values = a.values();
   Scalar* v = m_lanczos[0].data();
   Scalar* previous = m_lanczos[1].data();
   Scalar* w = m_lanczos[2].data();
-  const auto d_dot = [&](int r, const Scalar* x) {  // x_r . D_r x_r
-    const std::array<Scalar, 3> t = block_times(values + 9 * diagonal[r], x + 3 * r);
-    return double(x[3 * r]) * t[0] + double(x[3 * r + 1]) * t[1] + double(x[3 * r + 2]) * t[2];
+  const Scalar* zero = m_lanczos[3].data();  // never written
+  const auto d_dot = [&](int begin, int end, const Scalar* x) {  // sum of x_r . D_r x_r
+    double s = 0;
+    for (int r = begin; r < end; ++r) {
+      const std::array<Scalar, 3> t = block_times(values + 9 * diagonal[r], x + 3 * r);
+      s += double(x[3 * r]) * t[0] + double(x[3 * r + 1]) * t[1] + double(x[3 * r + 2]) * t[2];
+    }
+    return s;
   };
   team_for_if(shared, 3 * rows, [&](int i) {
     // A fixed start with every frequency: a multiplicative hash of the index mapped to [-1, 1).
@@ -251,32 +252,29 @@ double AlgebraicMultigrid<Scalar>::spectral_radius(int l, bool shared) {
     v[i] = Scalar(double(hash >> 8) / double(1u << 23) - 1.0);
     previous[i] = Scalar(0);
   });
-  const double start_norm = std::sqrt(chunked_sum(rows, shared, [&](int r) { return d_dot(r, v); }));
+  const double start_norm =
+      std::sqrt(chunked_sum(rows, shared, [&](int begin, int end) { return d_dot(begin, end, v); }));
   team_for_if(shared, 3 * rows, [&](int i) { v[i] = Scalar(v[i] / start_norm); });
   constexpr int max_steps = 40;
   std::array<double, max_steps> alpha{}, beta{};  // beta[j]: coupling of steps j - 1 and j
   int steps = 0;
   for (int j = 0; j < m_settings.spectral_steps; ++j) {
-    alpha[static_cast<std::size_t>(j)] = chunked_sum(rows, shared, [&](int r) {
-      Scalar y0 = 0, y1 = 0, y2 = 0;
-      for (int k = rb[r]; k < rb[r + 1]; ++k) {
-        const std::array<Scalar, 3> t = block_times(values + 9 * k, v + 3 * col[k]);
-        y0 += t[0];
-        y1 += t[1];
-        y2 += t[2];
-      }
-      w[3 * r] = y0;
-      w[3 * r + 1] = y1;
-      w[3 * r + 2] = y2;
-      return double(v[3 * r]) * y0 + double(v[3 * r + 1]) * y1 + double(v[3 * r + 2]) * y2;
+    // w = -A v (the residual kernel with b = 0), alpha_j = v . A v
+    alpha[static_cast<std::size_t>(j)] = chunked_sum(rows, shared, [&](int begin, int end) {
+      a.residual_rows(zero, v, w, begin, end);
+      double s = 0;
+      for (int i = 3 * begin; i < 3 * end; ++i) s -= double(v[i]) * double(w[i]);
+      return s;
     });
     steps = j + 1;
     const Scalar aj = Scalar(alpha[static_cast<std::size_t>(j)]), bj = Scalar(beta[static_cast<std::size_t>(j)]);
-    const double next = chunked_sum(rows, shared, [&](int r) {
-      const std::array<Scalar, 3> t = jacobi.times(r, w + 3 * r);
-      for (int q = 0; q < 3; ++q)
-        w[3 * r + q] = t[static_cast<std::size_t>(q)] - aj * v[3 * r + q] - bj * previous[3 * r + q];
-      return d_dot(r, w);
+    const double next = chunked_sum(rows, shared, [&](int begin, int end) {
+      for (int r = begin; r < end; ++r) {
+        const std::array<Scalar, 3> t = jacobi.times(r, w + 3 * r);
+        for (int q = 0; q < 3; ++q)
+          w[3 * r + q] = -t[static_cast<std::size_t>(q)] - aj * v[3 * r + q] - bj * previous[3 * r + q];
+      }
+      return d_dot(begin, end, w);
     });
     if (j + 1 == m_settings.spectral_steps || !(next > 1e-20 * alpha[0] * alpha[0])) break;  // or invariant
     const double b = std::sqrt(next);
