@@ -44,6 +44,8 @@
   HOW class MultigridHierarchy<S>;                                                              \
   HOW class MultigridPreconditioner<S>;                                                         \
   HOW class SinglePrecisionMultigrid<S>;                                                        \
+  HOW class AggregationHierarchy<S>;                                                            \
+  HOW class AlgebraicMultigrid<S>;                                                              \
   HOW class PcgSolver<S>;                                                                       \
   HOW class BicgstabSolver<S>;                                                                  \
   HOW class detail::DirectSolver<S, LinearSolverKind::Ldlt, detail::EigenLdltBackend<S>>;       \

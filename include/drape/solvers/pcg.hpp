@@ -2,8 +2,9 @@
 /// \file pcg.hpp
 /// Preconditioned conjugate gradients on the filtered system (Baraff & Witkin 1998, section 5.3),
 /// warm-started from the caller's `x` (the previous step's dv). The preconditioner
-/// (IterativeSettings::preconditioner) is block Jacobi or the multigrid V-cycle (in the solve's
-/// precision or in float), behind one interface (preconditioner.hpp), so there is one CG loop:
+/// (IterativeSettings::preconditioner) is block Jacobi, the geometric multigrid V-cycle (in the
+/// solve's precision or in float) or the algebraic one, behind one interface (preconditioner.hpp,
+/// made by make_preconditioner.hpp), so there is one CG loop:
 /// \f[ x \leftarrow S x + z,\quad r = S(b - A x),\quad p = S B r; \qquad
 ///     q = S A p,\; \alpha = \frac{r \cdot B r}{p \cdot q},\; x \mathrel{+}= \alpha p,\; r \mathrel{-}= \alpha q,\;
 ///     p \leftarrow S B r + \beta p. \f]
@@ -23,14 +24,11 @@
 #include <array>
 #include <cmath>
 #include <memory>
-#include <type_traits>
 
 #include "drape/linalg/block3.hpp"
 #include "drape/platform/team.hpp"
-#include "drape/solvers/block_jacobi.hpp"
 #include "drape/solvers/linear_solver.hpp"
-#include "drape/solvers/multigrid.hpp"
-#include "drape/solvers/single_precision_multigrid.hpp"
+#include "drape/solvers/make_preconditioner.hpp"
 #include "drape/solvers/solver_kind.hpp"
 
 namespace drape {
@@ -41,8 +39,10 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
   /// Block rows per thread below which a second thread is not woken.
   static constexpr long long min_rows_per_thread = 3000;
 
-  /// `multigrid`: the V-cycle's settings if settings.preconditioner is multigrid.
-  explicit PcgSolver(const IterativeSettings& settings = {}, const MultigridSettings& multigrid = {});
+  /// `multigrid`: the V-cycle's settings if settings.preconditioner is multigrid; `amg` the
+  /// algebraic V-cycle's if it is amg.
+  explicit PcgSolver(const IterativeSettings& settings = {}, const MultigridSettings& multigrid = {},
+                     const AlgebraicMultigridSettings& amg = {});
 
   /// A system without a lattice layout (a cloth that is not a grid) takes block Jacobi where a
   /// geometric multigrid was chosen. \throws InvalidParameter if the layout does not match the
@@ -69,16 +69,9 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-PcgSolver<Scalar>::PcgSolver(const IterativeSettings& settings, const MultigridSettings& multigrid)
-    : m_settings(settings) {
-  if (settings.preconditioner == PreconditionerKind::Multigrid ||
-      (settings.preconditioner == PreconditionerKind::MultigridFloat && std::is_same_v<Scalar, float>))
-    m_preconditioner = std::make_unique<MultigridPreconditioner<Scalar>>(multigrid);
-  else if (settings.preconditioner == PreconditionerKind::MultigridFloat)
-    m_preconditioner = std::make_unique<SinglePrecisionMultigrid<Scalar>>(multigrid);
-  else
-    m_preconditioner = std::make_unique<BlockJacobi<Scalar>>();
-}
+PcgSolver<Scalar>::PcgSolver(const IterativeSettings& settings, const MultigridSettings& multigrid,
+                             const AlgebraicMultigridSettings& amg)
+    : m_settings(settings), m_preconditioner(make_preconditioner<Scalar>(settings.preconditioner, multigrid, amg)) {}
 
 template <class Scalar>
 void PcgSolver<Scalar>::analyze(const LinearSystem<Scalar>& system) {

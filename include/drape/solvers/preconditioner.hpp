@@ -1,6 +1,7 @@
 #pragma once
 /// \file preconditioner.hpp
-/// The interface of the iterative solvers' preconditioners (block_jacobi.hpp, multigrid.hpp):
+/// The interface of the iterative solvers' preconditioners (block_jacobi.hpp, multigrid.hpp,
+/// algebraic_multigrid.hpp):
 /// \f$ z = B r \f$ with \f$ B \approx A^{-1} \f$ symmetric positive definite when A is, which is
 /// what CG needs. Everything runs inside the solver's thread team: each call is made by every
 /// thread of the team (or by the one thread of a serial solve).
@@ -20,14 +21,24 @@ enum class PreconditionerKind : std::uint8_t {
   /// The same V-cycle in float inside a double solve (single_precision_multigrid.hpp): fewer bytes
   /// per cycle; for a float solve, the same as Multigrid.
   MultigridFloat = 2,
+  /// Smoothed-aggregation algebraic multigrid V-cycle (algebraic_multigrid.hpp): needs nothing but
+  /// the matrix, so it works on any mesh.
+  AlgebraicMultigrid = 3,
 };
+
+/// True if `kind` needs the system's lattice layout (LinearSystem::layout): the geometric V-cycles.
+constexpr bool needs_grid_layout(PreconditionerKind kind) {
+  return kind == PreconditionerKind::Multigrid || kind == PreconditionerKind::MultigridFloat;
+}
 
 template <>
 struct EnumNames<PreconditionerKind> {
   static constexpr const char* parameter = "preconditioner";
-  static constexpr std::array<EnumName<PreconditionerKind>, 3> values{{{PreconditionerKind::Multigrid, "multigrid"},
-                                                                      {PreconditionerKind::MultigridFloat, "multigrid-float"},
-                                                                      {PreconditionerKind::BlockJacobi, "block-jacobi"}}};
+  static constexpr std::array<EnumName<PreconditionerKind>, 4> values{
+      {{PreconditionerKind::Multigrid, "multigrid"},
+       {PreconditionerKind::MultigridFloat, "multigrid-float"},
+       {PreconditionerKind::BlockJacobi, "block-jacobi"},
+       {PreconditionerKind::AlgebraicMultigrid, "amg"}}};
 };
 
 template <class Scalar = double>
