@@ -44,9 +44,9 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
   explicit PcgSolver(const IterativeSettings& settings = {}, const MultigridSettings& multigrid = {},
                      const AlgebraicMultigridSettings& amg = {});
 
-  /// A system without a lattice layout (a cloth that is not a grid) takes block Jacobi where a
-  /// geometric multigrid was chosen. \throws InvalidParameter if the layout does not match the
-  /// system's matrix.
+  /// A system without a lattice layout (a cloth that is not a grid) takes the algebraic multigrid
+  /// (algebraic_multigrid.hpp) where a geometric multigrid was chosen.
+  /// \throws InvalidParameter if the layout does not match the system's matrix.
   void analyze(const LinearSystem<Scalar>& system) override;
   SolveStatus solve(const LinearSystem<Scalar>& system, VectorX<Scalar>& x) override;
 
@@ -60,6 +60,7 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
   };
 
   IterativeSettings m_settings;
+  AlgebraicMultigridSettings m_amg;  // for a system without a lattice where multigrid was chosen
   std::unique_ptr<Preconditioner<Scalar>> m_preconditioner;
   VectorX<Scalar> m_r, m_z, m_p, m_q;
   Index m_analyzed = -1;
@@ -71,7 +72,9 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
 template <class Scalar>
 PcgSolver<Scalar>::PcgSolver(const IterativeSettings& settings, const MultigridSettings& multigrid,
                              const AlgebraicMultigridSettings& amg)
-    : m_settings(settings), m_preconditioner(make_preconditioner<Scalar>(settings.preconditioner, multigrid, amg)) {}
+    : m_settings(settings),
+      m_amg(amg),
+      m_preconditioner(make_preconditioner<Scalar>(settings.preconditioner, multigrid, amg)) {}
 
 template <class Scalar>
 void PcgSolver<Scalar>::analyze(const LinearSystem<Scalar>& system) {
@@ -79,7 +82,8 @@ void PcgSolver<Scalar>::analyze(const LinearSystem<Scalar>& system) {
   for (VectorX<Scalar>* v : {&m_r, &m_z, &m_p, &m_q}) v->setZero(n);
   const bool geometric = m_settings.preconditioner == PreconditionerKind::Multigrid ||
                          m_settings.preconditioner == PreconditionerKind::MultigridFloat;
-  if (geometric && system.layout.empty()) m_preconditioner = std::make_unique<BlockJacobi<Scalar>>();
+  if (geometric && system.layout.empty())
+    m_preconditioner = make_preconditioner<Scalar>(PreconditionerKind::AlgebraicMultigrid, {}, m_amg);
   m_preconditioner->analyze(system);
   m_analyzed = n;
 }
