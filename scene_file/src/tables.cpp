@@ -73,6 +73,8 @@ const ShapeKeys& shape_keys(drape::ShapeKind kind) {
       {drape::ShapeKind::Sphere, {{"center", "radius"}, {}}},
       {drape::ShapeKind::Capsule, {{"a", "b", "radius"}, {}}},
       {drape::ShapeKind::Box, {{"center", "half_extents"}, {"rotation_axis", "rotation_angle", "rounding"}}},
+      {drape::ShapeKind::Cylinder,
+       {{"center", "radius", "half_height"}, {"rotation_axis", "rotation_angle", "rounding"}}},
   };
   return keys.at(kind);
 }
@@ -129,6 +131,7 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
       {"collider radius", "radius"},
       {"collider normal", "normal"},
       {"collider half extents", "half_extents"},
+      {"collider half height", "half_height"},
       {"collider rounding", "rounding"},
       {"collider velocity", "velocity"},
       {"collider angular velocity", "angular_velocity"},
@@ -150,8 +153,10 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
         key_of["collider position"] = a.allFinite() ? "b" : "a";  // the library checks a first
         return drape::Colliderd::capsule(a, b, scalar("radius"));
       }
-      case ShapeKind::Box: break;
+      case ShapeKind::Box:
+      case ShapeKind::Cylinder: break;
     }
+    // Box and cylinder: a centre, turned about an axis.
     key_of["collider position"] = "center";
     const drape::Vec3<double> axis = vector("rotation_axis", {0, 1, 0});
     const double angle = scalar("rotation_angle");
@@ -163,6 +168,9 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
       fail("scene file '" + file + "': " + key + ".rotation_angle", number(angle), "finite degrees");
     const drape::Mat3<double> rotation =
         Eigen::AngleAxisd(angle * (3.14159265358979323846 / 180.0), axis.normalized()).toRotationMatrix();
+    if (kind == ShapeKind::Cylinder)
+      return drape::Colliderd::cylinder(vector("center"), scalar("radius"), scalar("half_height"), rotation,
+                                        scalar("rounding"));
     return drape::Colliderd::box(vector("center"), vector("half_extents"), rotation, scalar("rounding"));
   };
   try {

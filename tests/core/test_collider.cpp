@@ -1,6 +1,7 @@
 // Rigid colliders (contact/collider.hpp): the analytic gradient of every shape against central
-// differences inside and outside, known distances, moving and spinning colliders, the constant
-// motion's pose, the swept test (thin boxes, misses, starts inside, relative motion, and a sampled
+// differences inside and outside, known distances, the cylinder's distance and normal against the
+// nearest of densely sampled surface points, moving and spinning colliders, the constant motion's
+// pose, the swept test (thin boxes and disks, misses, starts inside, relative motion, and a sampled
 // check that it never passes a contact), and parameter checks.
 #include <catch2/catch.hpp>
 
@@ -21,8 +22,8 @@ Mat3<S> tilt() {
   return Eigen::AngleAxis<S>(S(0.7), Vec3<S>(1, 2, 3).normalized()).toRotationMatrix();
 }
 
-/// One collider of every kind (two boxes: sharp and rounded), placed off the origin and tilted,
-/// some of them moving and spinning.
+/// One collider of every kind (two boxes and two cylinders: sharp and rounded), placed off the
+/// origin and tilted, some of them moving and spinning.
 template <class S>
 std::vector<Collider<S>> shapes() {
   return {Collider<S>::plane(Vec3<S>(S(0.1), S(-0.2), S(0.3)), Vec3<S>(S(0.3), 1, S(-0.2))),
@@ -31,7 +32,10 @@ std::vector<Collider<S>> shapes() {
               .moving(Vec3<S>(S(0.2), 0, S(-0.1)), Vec3<S>(S(0.5), S(-1), S(0.3))),
           Collider<S>::box(Vec3<S>(S(0.1), S(0.2), S(-0.1)), Vec3<S>(S(0.6), S(0.4), S(0.8)), tilt<S>()),
           Collider<S>::box(Vec3<S>(S(0.1), S(0.2), S(-0.1)), Vec3<S>(S(0.6), S(0.4), S(0.8)), tilt<S>(), S(0.25))
-              .moving(Vec3<S>(0, S(-0.3), S(0.2)), Vec3<S>(1, S(0.2), S(-0.4)))};
+              .moving(Vec3<S>(0, S(-0.3), S(0.2)), Vec3<S>(1, S(0.2), S(-0.4))),
+          Collider<S>::cylinder(Vec3<S>(S(-0.1), S(0.1), S(0.2)), S(0.7), S(0.4), tilt<S>()),
+          Collider<S>::cylinder(Vec3<S>(S(0.1), S(-0.1), 0), S(0.6), S(0.5), tilt<S>(), S(0.2))
+              .moving(Vec3<S>(S(0.1), S(0.2), 0), Vec3<S>(S(-0.3), S(0.8), S(0.5)))};
 }
 
 template <class S>
@@ -43,6 +47,51 @@ Vec3<S> random_point(std::mt19937& rng, double half_width) {
 template <class S>
 bool close3(const Vec3<S>& a, const Vec3<S>& b, S eps) {
   return (a - b).cwiseAbs().maxCoeff() <= eps;
+}
+
+constexpr double pi = 3.14159265358979323846;
+
+/// Points of a cylinder's surface at most `spacing` apart along and around it, in its local frame
+/// (radius r about y, half height h, rims rounded by `rounding`): a profile in (distance from the
+/// axis, y) from the top cap's centre over the rims to the bottom cap's centre, turned about y.
+std::vector<Vec3<double>> cylinder_surface(double r, double h, double rounding, double spacing) {
+  std::vector<Eigen::Vector2d> profile;
+  const auto line = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const int n = std::max(1, int(std::ceil((b - a).norm() / spacing)));
+    for (int j = 0; j < n; ++j) profile.push_back(a + (b - a) * (double(j) / n));
+  };
+  const auto arc = [&](const Eigen::Vector2d& centre, double from, double to) {
+    const int n = std::max(1, int(std::ceil(rounding * std::abs(to - from) / spacing)));
+    for (int j = 0; j < n; ++j) {
+      const double a = from + (to - from) * j / n;
+      profile.push_back(centre + rounding * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+  };
+  const double inner_r = r - rounding, inner_h = h - rounding;
+  line({0, h}, {inner_r, h});
+  if (rounding > 0) arc({inner_r, inner_h}, pi / 2, 0);
+  line({r, inner_h}, {r, -inner_h});
+  if (rounding > 0) arc({inner_r, -inner_h}, 0, -pi / 2);
+  line({inner_r, -h}, {0, -h});
+  profile.emplace_back(0, -h);
+  std::vector<Vec3<double>> points;
+  for (const Eigen::Vector2d& q : profile) {
+    const int around = std::max(1, int(std::ceil(2 * pi * q.x() / spacing)));
+    for (int k = 0; k < around; ++k) {
+      const double a = 2 * pi * k / around;
+      points.emplace_back(q.x() * std::cos(a), q.y(), q.x() * std::sin(a));
+    }
+  }
+  return points;
+}
+
+/// Whether local point p lies in the cylinder (the surface counts as inside), from its definition:
+/// within the sharp cylinder and not in a rim's corner outside the rounding's circle.
+bool inside_cylinder(const Vec3<double>& p, double r, double h, double rounding) {
+  const double a = std::sqrt(p.x() * p.x() + p.z() * p.z()), y = std::abs(p.y());
+  if (a > r || y > h) return false;
+  const double u = a - (r - rounding), v = y - (h - rounding);
+  return u <= 0 || v <= 0 || u * u + v * v <= rounding * rounding;
 }
 
 }  // namespace
@@ -139,6 +188,46 @@ TEMPLATE_TEST_CASE("collider distances and normals at known points", "[collider]
   check(turned, c + r * Vec3<S>(0, 0, 4), 1, r.col(2));
   check(turned, c + r * Vec3<S>(2, -3, 0), 1.5 * std::sqrt(2.0) - 0.5, r * Vec3<S>(1, -1, 0));
 
+  // A cylinder of radius 0.5 from y = 1 to 3 about c: caps, side, the sharp rim, inside.
+  const Collider<S> can = Collider<S>::cylinder(c, S(0.5), 1);
+  CHECK(can.half_height() == S(1));
+  CHECK(can.radius() == S(0.5));
+  check(can, c + Vec3<S>(0, 3, 0), 2, Vec3<S>(0, 1, 0));
+  check(can, c + Vec3<S>(S(0.3), S(-1.5), S(-0.2)), 0.5, Vec3<S>(0, -1, 0));
+  check(can, c + Vec3<S>(0, S(0.3), 2), 1.5, Vec3<S>(0, 0, 1));
+  check(can, c + Vec3<S>(S(-1.5), 2, 0), std::sqrt(2.0), Vec3<S>(-1, 1, 0));
+  check(can, c + Vec3<S>(S(0.4), 0, 0), -0.1, Vec3<S>(1, 0, 0));
+  check(can, c + Vec3<S>(S(0.1), S(0.9), S(-0.1)), -0.1, Vec3<S>(0, 1, 0));
+  check(can, c + Vec3<S>(S(0.24), S(-0.3), S(0.32)), -0.1, Vec3<S>(S(0.24), 0, S(0.32)));
+  // On the axis the side is nearest in every horizontal direction: any of them is a subgradient.
+  const ColliderContact<S> axis = can.query(c + Vec3<S>(0, S(0.2), 0), 0);
+  CHECK(std::abs(axis.distance + S(0.5)) <= eps);
+  CHECK(std::abs(axis.normal.norm() - 1) <= eps);
+  CHECK(axis.normal.y() == 0);
+  // Rims rounded by 0.2: the inner cylinder (0.3, 0.8) inflated by 0.2.
+  const Collider<S> rounded = Collider<S>::cylinder(c, S(0.5), 1, Mat3<S>::Identity(), S(0.2));
+  check(rounded, c + Vec3<S>(S(1.5), 2, 0), 1.2 * std::sqrt(2.0) - 0.2, Vec3<S>(1, 1, 0));
+  check(rounded, c + Vec3<S>(0, -2, S(-1.5)), 1.2 * std::sqrt(2.0) - 0.2, Vec3<S>(0, -1, -1));
+  check(rounded, c + Vec3<S>(S(0.5), 1, 0), (std::sqrt(2.0) - 1) * 0.2, Vec3<S>(1, 1, 0));  // the sharp corner
+  check(rounded, c + Vec3<S>(S(0.1), S(1.5), S(0.1)), 0.5, Vec3<S>(0, 1, 0));
+  check(rounded, c + Vec3<S>(0, 0, S(-0.9)), 0.4, Vec3<S>(0, 0, -1));
+  // Turned: the axis and the side's normals turn with it.
+  const Mat3<S> turn = tilt<S>();
+  const Collider<S> tilted = Collider<S>::cylinder(c, S(0.5), 1, turn, S(0.2));
+  check(tilted, c + turn * Vec3<S>(0, 0, 2), 1.5, turn.col(2));
+  check(tilted, c + turn * Vec3<S>(0, -3, 0), 2, -turn.col(1));
+  check(tilted, c + turn * Vec3<S>(S(1.5), 2, 0), 1.2 * std::sqrt(2.0) - 0.2, turn * Vec3<S>(1, 1, 0));
+  // Rounded by its radius it is a capsule along y; by its radius and half height, a sphere.
+  const Collider<S> pill = Collider<S>::cylinder(c, S(0.5), 1, Mat3<S>::Identity(), S(0.5));
+  const Collider<S> capsule_y = Collider<S>::capsule(c - Vec3<S>(0, S(0.5), 0), c + Vec3<S>(0, S(0.5), 0), S(0.5));
+  const Collider<S> ball = Collider<S>::cylinder(c, S(0.5), S(0.5), Mat3<S>::Identity(), S(0.5));
+  std::mt19937 rng(23);
+  for (int k = 0; k < 200; ++k) {
+    const Vec3<S> x = c + random_point<S>(rng, 1.5);
+    check(pill, x, double(capsule_y.query(x, 0).distance), capsule_y.query(x, 0).normal);
+    check(ball, x, double(sphere.query(x, 0).distance), sphere.query(x, 0).normal);
+  }
+
   // A plane through c tilted by its normal (not unit on input).
   const Vec3<S> n(1, 1, 0);
   const Collider<S> plane = Collider<S>::plane(c, n);
@@ -147,6 +236,81 @@ TEMPLATE_TEST_CASE("collider distances and normals at known points", "[collider]
   check(plane, c + Vec3<S>(1, -1, 7), 0, n);
   // An upside-down plane (normal -y, the rotation from +y is a half turn).
   check(Collider<S>::plane(c, Vec3<S>(0, -3, 0)), c + Vec3<S>(4, -1, 2), 1, Vec3<S>(0, -1, 0));
+}
+
+TEST_CASE("cylinder distance and normal: the nearest of densely sampled surface points, near rims and caps too",
+          "[collider][cylinder]") {
+  // The distance is never more than the distance to any surface point and at most the samples'
+  // spacing less than the nearest sample's; its sign is the inside test's; the surface point it
+  // names (x - d n) is on the sampled surface; the bounding radius holds every sample.
+  struct Case {
+    const char* name;
+    double radius, half_height, rounding;
+    Mat3<double> rotation;
+  };
+  const Case cases[] = {{"sharp", 0.6, 0.4, 0, Mat3<double>::Identity()},
+                        {"rounded, tilted", 0.6, 0.4, 0.15, tilt<double>()},
+                        {"rims a half torus", 0.6, 0.25, 0.25, tilt<double>()},
+                        {"a capsule", 0.3, 0.6, 0.3, Mat3<double>::Identity()}};
+  const double spacing = 0.005;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const Case& c : cases) {
+    INFO(c.name);
+    const double r = c.radius, h = c.half_height, rho = c.rounding;
+    const Collider<double> cylinder = Collider<double>::cylinder(Vec3<double>(0.3, -0.2, 0.1), r, h, c.rotation, rho);
+    CHECK(cylinder.kind() == ShapeKind::Cylinder);
+    CHECK(cylinder.radius() == r);
+    CHECK(cylinder.half_height() == h);
+    CHECK(cylinder.rounding() == rho);
+    const RigidPose<double> pose = cylinder.motion().pose(0);
+    const std::vector<Vec3<double>> surface = cylinder_surface(r, h, rho, spacing);
+    double farthest = 0;
+    for (const Vec3<double>& q : surface) farthest = std::max(farthest, q.norm());
+    CHECK(farthest <= cylinder.bounding_radius() + 1e-12);
+    CHECK(farthest >= cylinder.bounding_radius() - spacing);
+    const auto nearest = [&](const Vec3<double>& p) {
+      double best = INFINITY;
+      for (const Vec3<double>& q : surface) best = std::min(best, (p - q).squaredNorm());
+      return std::sqrt(best);
+    };
+    // Local query points: anywhere around the shape, then near a rim, on the caps and on the side.
+    std::vector<Vec3<double>> points;
+    for (int k = 0; k < 100; ++k)
+      points.emplace_back((2 * u(rng) - 1) * 1.4 * r, (2 * u(rng) - 1) * (1.4 * h + 0.1), (2 * u(rng) - 1) * 1.4 * r);
+    const auto around = [&](double axial, double y) {
+      const double a = 2 * pi * u(rng);
+      return Vec3<double>(axial * std::cos(a), y, axial * std::sin(a));
+    };
+    const double side = u(rng) < 0.5 ? -1 : 1;
+    for (int k = 0; k < 60; ++k) {
+      // A point of a rim's arc, moved along its normal from 0.6 rho inside to 0.1 outside, or,
+      // for a sharp rim, anywhere within 0.05 of the edge.
+      const double a = 0.5 * pi * u(rng), offset = -0.6 * rho + (0.6 * rho + 0.1) * u(rng);
+      const double reach = rho + offset;
+      Vec3<double> p = around(r - rho + reach * std::cos(a), side * (h - rho + reach * std::sin(a)));
+      if (rho == 0) p = around(r + 0.05 * (2 * u(rng) - 1), side * (h + 0.05 * (2 * u(rng) - 1)));
+      points.push_back(p);
+    }
+    for (int k = 0; k < 60; ++k)
+      points.push_back(around((r - rho) * u(rng), (k % 2 ? 1 : -1) * (h + 0.1 * u(rng) - 0.05)));
+    for (int k = 0; k < 30; ++k) points.push_back(around(r + 0.1 * u(rng) - 0.05, (h - rho) * (2 * u(rng) - 1)));
+    int inside = 0;
+    for (const Vec3<double>& p : points) {
+      const ColliderContact<double> q = cylinder.query(pose.to_world(p), 0);
+      const double brute = nearest(p);
+      INFO("local p = " << p.transpose() << ", distance " << q.distance << ", nearest sample " << brute);
+      REQUIRE(std::abs(q.normal.norm() - 1) < 1e-14);
+      REQUIRE(std::abs(q.distance) <= brute + 1e-12);
+      REQUIRE(brute <= std::abs(q.distance) + spacing);
+      if (std::abs(q.distance) > 1e-9) REQUIRE((q.distance < 0) == inside_cylinder(p, r, h, rho));
+      inside += q.distance < 0;
+      const Vec3<double> foot = p - q.distance * (pose.rotation.transpose() * q.normal);
+      REQUIRE(nearest(foot) <= spacing);
+    }
+    CHECK(inside >= 40);
+    CHECK(inside <= int(points.size()) - 40);
+  }
 }
 
 TEST_CASE("rigid motion: constant pose against a hand-computed rotation, frame maps and point velocity",
@@ -215,6 +379,16 @@ TEMPLATE_TEST_CASE("moving and spinning colliders: distance from the moved shape
     CHECK(close3<S>(a.normal, b.normal, 10 * eps));
     CHECK(close3<S>(a.velocity, v + w.cross(y - (c + t * v)), eps));
   }
+  // So does a tilted cylinder with rounded rims.
+  const Collider<S> rolling = Collider<S>::cylinder(c, S(0.5), S(0.3), r0, S(0.1)).moving(v, w);
+  const Collider<S> still = Collider<S>::cylinder(c + t * v, S(0.5), S(0.3), rt, S(0.1));
+  for (int k = 0; k < 50; ++k) {
+    const Vec3<S> y = c + random_point<S>(rng, 1.5);
+    const ColliderContact<S> a = rolling.query(y, t), b = still.query(y, 0);
+    CHECK(std::abs(a.distance - b.distance) <= eps);
+    CHECK(close3<S>(a.normal, b.normal, 10 * eps));
+    CHECK(close3<S>(a.velocity, v + w.cross(y - (c + t * v)), eps));
+  }
   // A callback motion is used as given (here: the same sliding sphere).
   Collider<S> driven = Collider<S>::sphere(Vec3<S>::Zero(), S(0.5));
   driven.set_motion(RigidMotion<S>::callback([&](S time) {
@@ -247,6 +421,20 @@ TEMPLATE_TEST_CASE("swept test: thin boxes, misses, starts inside, moving sphere
   CHECK(s_plate > S(0.4));
   CHECK(s_plate < S(0.6));
   CHECK(plate.query(from + s_plate * (to - from), 0).distance <= S(2e-6));
+  // A 1 mm thick disk of radius 0.2 at x = 0.5, its axis along x, crossed on the same path; a path
+  // 0.25 from its axis passes by, and one at 0.1999 grazes its rim.
+  const Mat3<S> axis_x = Eigen::AngleAxis<S>(S(-pi / 2), Vec3<S>::UnitZ()).toRotationMatrix();
+  const Collider<S> coin = Collider<S>::cylinder(Vec3<S>(S(0.5), 0, 0), S(0.2), S(0.0005), axis_x);
+  CHECK(std::abs(coin.first_contact(from, 0, to, 1, 0) - S(0.4995)) <= accuracy);
+  CHECK(std::abs(coin.first_contact(to, 0, from, 1, S(0.002)) - S(0.4975)) <= accuracy);
+  CHECK(coin.first_contact(Vec3<S>(0, S(0.25), 0), 0, Vec3<S>(1, S(0.25), 0), 1, 0) < 0);
+  CHECK(coin.first_contact(Vec3<S>(0, 0, S(0.1999)), 0, Vec3<S>(1, 0, S(0.1999)), 1, 0) >= 0);
+  CHECK(coin.first_contact(Vec3<S>(0, 0, S(0.2001)), 0, Vec3<S>(1, 0, S(0.2001)), 1, 0) < 0);
+  // Onto a round table's top (radius 0.5, top at y = 0) from above, and along its axis from below.
+  const Collider<S> table = Collider<S>::cylinder(Vec3<S>(0, S(-0.1), 0), S(0.5), S(0.1), Mat3<S>::Identity(), S(0.05));
+  CHECK(std::abs(table.first_contact(Vec3<S>(S(0.2), 1, 0), 0, Vec3<S>(S(0.2), -1, 0), 1, S(0.01)) - S(0.495)) <=
+        accuracy);
+  CHECK(std::abs(table.first_contact(Vec3<S>(0, -1, 0), 0, Vec3<S>(0, 1, 0), 1, 0) - S(0.4)) <= accuracy);
   // Passing above the wall, or stopping short of it: negative.
   CHECK(wall.first_contact(Vec3<S>(0, S(0.3), 0), 0, Vec3<S>(1, S(0.3), 0), 1, 0) < 0);
   CHECK(wall.first_contact(Vec3<S>(0, S(0.3), 0), 0, Vec3<S>(1, S(0.3), 0), 1, S(0.099)) < 0);
@@ -348,6 +536,20 @@ TEST_CASE("collider parameters are checked, each error names its parameter", "[c
   CHECK_THROWS_WITH(Collider<double>::box(o, Vec3<double>(1, 0.5, 2), Mat3<double>::Identity(), -0.1),
                     Catch::Contains("'collider rounding'"));
   CHECK_NOTHROW(Collider<double>::box(o, Vec3<double>(1, 0.5, 2), Mat3<double>::Identity(), 0.5));
+  CHECK_THROWS_WITH(Collider<double>::cylinder(o, 0, 1), Catch::Contains("'collider radius'"));
+  CHECK_THROWS_WITH(Collider<double>::cylinder(o, std::nan(""), 1), Catch::Contains("'collider radius'"));
+  CHECK_THROWS_WITH(Collider<double>::cylinder(o, 1, -1), Catch::Contains("'collider half height'"));
+  CHECK_THROWS_WITH(Collider<double>::cylinder(o, 1, INFINITY), Catch::Contains("'collider half height'"));
+  CHECK_THROWS_WITH(Collider<double>::cylinder(nan_point, 1, 1), Catch::Contains("'collider position'"));
+  CHECK_THROWS_WITH(Collider<double>::cylinder(o, 1, 0.5, Mat3<double>::Identity(), 0.6),
+                    Catch::Contains("'collider rounding'") && Catch::Contains("[0, 0.5]"));
+  CHECK_THROWS_WITH(Collider<double>::cylinder(o, 0.4, 0.5, Mat3<double>::Identity(), 0.41),
+                    Catch::Contains("'collider rounding'") && Catch::Contains("[0, 0.4"));
+  CHECK_THROWS_WITH(Collider<double>::cylinder(o, 1, 0.5, Mat3<double>::Identity(), -0.1),
+                    Catch::Contains("'collider rounding'"));
+  CHECK_NOTHROW(Collider<double>::cylinder(o, 0.4, 0.5, Mat3<double>::Identity(), 0.4));
+  CHECK_THROWS_WITH(Collider<double>::cylinder(o, 1, 1, 2 * Mat3<double>::Identity()),
+                    Catch::Contains("'collider rotation'"));
   CHECK_THROWS_WITH(Collider<double>::box(o, Vec3<double>(1, 1, 1), 2 * Mat3<double>::Identity()),
                     Catch::Contains("'collider rotation'"));
   CHECK_THROWS_WITH(Collider<double>::box(o, Vec3<double>(1, 1, 1), -Mat3<double>::Identity()),
@@ -368,6 +570,7 @@ TEST_CASE("collider parameters are checked, each error names its parameter", "[c
   CHECK(ball.radius() == 1);
   CHECK(to_string(ShapeKind::Capsule) == std::string("capsule"));
   CHECK(parse<ShapeKind>("box") == ShapeKind::Box);
-  CHECK(joined_names<ShapeKind>() == "plane, sphere, capsule, box");
+  CHECK(joined_names<ShapeKind>() == "plane, sphere, capsule, box, cylinder");
+  CHECK(parse<ShapeKind>("cylinder") == ShapeKind::Cylinder);
   CHECK_THROWS_WITH(parse<ShapeKind>("cone"), Catch::Contains("'collider shape'"));
 }

@@ -1,7 +1,8 @@
 // Contact with colliders in both integrators (contact/contact_handler.hpp): resting contact with
-// the reaction equal to the weight, Coulomb friction on a slope against g (sin a - mu cos a), no
-// tunnelling through a thin box or past a fast collider (checked by brute force on every node's
-// path), direct and iterative solvers agreeing, momentum, determinism and bad input.
+// the reaction equal to the weight (on a floor and on a round table), a cloth draped over a table's
+// rounded rim, Coulomb friction on a slope against g (sin a - mu cos a), no tunnelling through a thin
+// box or disk or past a fast collider (checked by brute force on every node's path), direct and
+// iterative solvers agreeing, momentum, determinism and bad input.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -103,6 +104,57 @@ TEMPLATE_TEST_CASE("contact: a cloth dropped on a plane rests on it and the floo
     CHECK(std::abs(double(report.normal_force.x())) + std::abs(double(report.normal_force.z())) <= 1e-6 * weight);
     CHECK(mean_velocity(state).norm() <= 1e-3);
     CHECK(std::abs(double(state.positions.row(1).mean()) - double(floor)) <= 1e-4);
+  }
+}
+
+TEMPLATE_TEST_CASE("contact: a cloth dropped on a round table rests on its top; on a smaller one it drapes over the rim",
+                   "[contact][cylinder]", float, double) {
+  using S = TestType;
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Symplectic}) {
+    INFO(to_string(kind));
+    // Radius 0.8, top at y = -0.3: the whole cloth (corners 0.71 from its middle) lands on the top.
+    ClothSpec<S> spec = free_cloth<S>();
+    spec.colliders.push_back(
+        Collider<S>::cylinder(Vec3<S>(S(0.5), S(-0.4), S(0.5)), S(0.8), S(0.1), Mat3<S>::Identity(), S(0.02)));
+    const Cloth<S> cloth(spec);
+    auto stepper = integrator(cloth, kind);
+    State<S> state = cloth.initial_state();
+    const S top = S(-0.3) + cloth.contact_thickness();
+    run<S>(*stepper, state, 1.5, [&](const State<S>&, const State<S>& after) {
+      REQUIRE(after.positions.row(1).minCoeff() >= top - cloth.contact_tolerance());
+      REQUIRE(stepper->contact_report().corrected == 0);
+    });
+    const ContactReport<S>& report = stepper->contact_report();
+    const double weight = double(cloth.grid().masses().sum()) * 10.0;
+    CHECK(report.contacts == cloth.node_count());
+    CHECK(std::abs(double(report.normal_force.y()) - weight) <= 0.005 * weight);
+    CHECK(mean_velocity(state).norm() <= 1e-3);
+    CHECK(std::abs(double(state.positions.row(1).mean()) - double(top)) <= 1e-4);
+
+    // The drape tester: radius 0.3, rims rounded by 0.05, a rough top. The middle rests on the top
+    // and the rest hangs over the rim; no node is ever deeper in the table than the tolerance.
+    ClothSpec<S> drape_spec = free_cloth<S>();
+    const Collider<S> table =
+        Collider<S>::cylinder(Vec3<S>(S(0.5), S(-0.4), S(0.5)), S(0.3), S(0.1), Mat3<S>::Identity(), S(0.05))
+            .set_friction(S(0.3), S(0.3));
+    drape_spec.colliders.push_back(table);
+    const Cloth<S> draped(drape_spec);
+    auto drape_stepper = integrator(draped, kind);
+    State<S> drape_state = draped.initial_state();
+    S closest = S(1);
+    run<S>(*drape_stepper, drape_state, 1.5, [&](const State<S>&, const State<S>& after) {
+      for (Index i = 0; i < after.positions.cols(); ++i)
+        closest = std::min(closest, table.query(after.positions.col(i), after.time).distance);
+      REQUIRE(closest >= draped.contact_thickness() - draped.contact_tolerance());
+      REQUIRE(drape_stepper->contact_report().corrected == 0);
+    });
+    CHECK(closest <= draped.contact_thickness() + draped.contact_tolerance());  // it did touch
+    const int middle = draped.grid().node(5, 5);
+    CHECK(std::abs(double(drape_state.positions(1, middle) - top)) <= 1e-3);
+    for (const int corner : {draped.grid().node(0, 0), draped.grid().node(10, 0), draped.grid().node(0, 10),
+                             draped.grid().node(10, 10)})
+      CHECK(drape_state.positions(1, corner) < S(-0.5));
+    CHECK(drape_stepper->contact_report().contacts > 0);
   }
 }
 
@@ -253,6 +305,63 @@ TEST_CASE("contact: a cloth thrown at a thin box never passes through it", "[con
       }
     });
     CHECK(state.velocities.row(1).maxCoeff() <= 1e-6);  // stopped on it, not bounced through
+  }
+}
+
+TEST_CASE("contact: a cloth thrown at a thin disk never passes through it", "[contact][tunnelling][cylinder]") {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Symplectic}) {
+    INFO(to_string(kind));
+    ClothSpecd spec = free_cloth<double>();
+    spec.gravity = 0;
+    // 1 cm thick, radius 1.5, top at y = 0, under the whole cloth; the cloth moves 0.3 m (implicit)
+    // or 15 mm (symplectic) per step toward it, more than the disk is thick.
+    const double half = 0.005;
+    spec.colliders.push_back(Colliderd::cylinder(Vec3<double>(0.5, -half, 0.5), 1.5, half));
+    const Clothd cloth(spec);
+    auto stepper = integrator(cloth, kind);
+    Stated state = cloth.initial_state();
+    state.positions.row(1).array() += 1.0;
+    state.velocities.row(1).setConstant(-30.0);
+    const double top = cloth.contact_thickness();
+    run<double>(*stepper, state, 0.3, [&](const Stated& before, const Stated& after) {
+      for (Index i = 0; i < after.positions.cols(); ++i)
+        REQUIRE(std::min(before.positions(1, i), after.positions(1, i)) >= top - cloth.contact_tolerance());
+    });
+    CHECK(state.velocities.row(1).maxCoeff() <= 1e-6);
+  }
+}
+
+TEST_CASE("contact: a fast tilted rod swept through a hanging cloth never passes a node",
+          "[contact][tunnelling][cylinder]") {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Symplectic}) {
+    INFO(to_string(kind));
+    ClothSpecd spec = free_cloth<double>(11);
+    spec.pinned_nodes = std::vector<int>{0, 10};  // two corners
+    // A cylinder of radius 0.08 lying along z (a quarter turn about x), 1.6 m long, under the
+    // cloth's middle and moving up at 20 m/s: 0.2 m per implicit step, more than its diameter.
+    const double radius = 0.08, speed = 20.0;
+    const Mat3<double> lying = Eigen::AngleAxisd(pi / 2, Vec3<double>::UnitX()).toRotationMatrix();
+    const Colliderd rod =
+        Colliderd::cylinder(Vec3<double>(0.5, -1.0, 0.5), radius, 0.8, lying, 0.02).moving(Vec3<double>(0, speed, 0));
+    spec.colliders.push_back(rod);
+    const Clothd cloth(spec);
+    auto stepper = integrator(cloth, kind);
+    Stated state = cloth.initial_state();
+    const double h = cloth.contact_thickness();
+    run<double>(*stepper, state, 0.1, [&](const Stated& before, const Stated& after) {
+      // Each node's straight path in the rod's frame, sampled 1 mm apart or closer, stays outside
+      // the rod inflated by h.
+      const RigidPose<double> pose0 = rod.motion().pose(before.time), pose1 = rod.motion().pose(after.time);
+      for (Index i = 0; i < after.positions.cols(); ++i) {
+        const Vec3<double> p0 = pose0.to_local(before.positions.col(i)), p1 = pose1.to_local(after.positions.col(i));
+        const int samples = 1 + int((p1 - p0).norm() / 1e-3);
+        for (int j = 0; j <= samples; ++j) {
+          const Vec3<double> world = pose0.to_world(p0 + (p1 - p0) * (double(j) / samples));
+          REQUIRE(rod.query(world, before.time).distance >= h - cloth.contact_tolerance());
+        }
+      }
+    });
+    CHECK(state.positions.row(1).maxCoeff() > 0.3);  // thrown up by the rod
   }
 }
 

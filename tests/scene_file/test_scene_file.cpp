@@ -169,6 +169,75 @@ angular_velocity = [0.0, 1.0, 0.0]
   fs::remove_all(dir);
 }
 
+TEST_CASE("colliders: a [[colliders]] cylinder is a round table, turned, rounded and moved as the file says",
+          "[scene_file][colliders][cylinder]") {
+  const fs::path dir = fresh_dir("cylinder");
+  const Settings s = read_text(dir, R"(
+[[colliders]]
+shape = "cylinder"
+center = [0.5, -0.4, 0.5]
+radius = 0.3
+half_height = 0.1
+
+[[colliders]]
+shape = "cylinder"
+center = [0.0, -3.0, 0.0]
+radius = 0.5
+half_height = 1.0
+rotation_axis = [0.0, 0.0, 2.0]
+rotation_angle = 90.0
+rounding = 0.2
+static_friction = 0.4
+velocity = [1.0, 0.0, 0.0]
+)");
+  const std::vector<drape::Colliderd>& c = s.cloth.colliders;
+  REQUIRE(c.size() == 2);
+  // A round table of radius 0.3, its top at y = -0.3.
+  REQUIRE(c[0].kind() == drape::ShapeKind::Cylinder);
+  REQUIRE(c[0].radius() == 0.3);
+  REQUIRE(c[0].half_height() == 0.1);
+  REQUIRE(c[0].rounding() == 0);
+  REQUIRE(c[0].motion().is_static());
+  REQUIRE(distance(c[0], 0.5, 0.0, 0.5) == Approx(0.3));
+  REQUIRE(distance(c[0], 1.3, -0.4, 0.5) == Approx(0.5));
+  REQUIRE(distance(c[0], 0.5, -1.0, 0.7) == Approx(0.5));
+  // Turned a quarter turn about +z: its axis lies along x, caps at x = -1 and 1, rims rounded by 0.2.
+  REQUIRE(c[1].rounding() == 0.2);
+  REQUIRE(distance(c[1], 3, -3, 0) == Approx(2.0));
+  REQUIRE(distance(c[1], 0, -1, 0) == Approx(1.5));
+  REQUIRE(distance(c[1], 0.5, -3, -1) == Approx(0.5));
+  REQUIRE(distance(c[1], -2, -1.5, 0) == Approx(1.2 * std::sqrt(2.0) - 0.2));
+  // Moving at 1 m/s along x; kinetic friction defaults to the static one.
+  REQUIRE(distance(c[1], 4, -3, 0, 1.0) == Approx(2.0));
+  REQUIRE(c[1].static_friction() == 0.4);
+  REQUIRE(c[1].kinetic_friction() == 0.4);
+
+  // Its errors name the key typed.
+  using Catch::Contains;
+  const std::string can = "[[colliders]]\nshape = \"cylinder\"\ncenter = [0, -1, 0]\nradius = 1.0\n";
+  REQUIRE_THAT(error_of(dir, can),
+               Contains("key 'colliders[0].half_height' is missing; a cylinder needs center, radius, half_height"));
+  REQUIRE_THAT(error_of(dir, can + "half_height = 0.0\n"), Contains("colliders[0].half_height = 0") &&
+                                                               Contains("is invalid") && Contains("> 0"));
+  REQUIRE_THAT(error_of(dir, can + "half_height = 0.5\nrounding = 0.6\n"),
+               Contains("colliders[0].rounding = 0.6") && Contains("[0, 0.5]"));
+  REQUIRE_THAT(error_of(dir, "[[colliders]]\nshape = \"cylinder\"\ncenter = [0, -1, 0]\nradius = -0.5\n"
+                             "half_height = 1.0\n"),
+               Contains("colliders[0].radius = -0.5"));
+  REQUIRE_THAT(error_of(dir, can + "half_height = 0.5\nrotation_axis = [0, 0, 0]\n"),
+               Contains("colliders[0].rotation_axis"));
+  REQUIRE_THAT(error_of(dir, can + "half_height = 0.5\nhalf_extents = [1, 1, 1]\n"),
+               Contains("key 'colliders[0].half_extents' does not belong to a cylinder (it is a box's); a cylinder "
+                        "has the keys shape, velocity, angular_velocity, static_friction, kinetic_friction, center, "
+                        "radius, half_height, rotation_axis, rotation_angle, rounding"));
+  REQUIRE_THAT(error_of(dir, "[[colliders]]\nshape = \"box\"\ncenter = [0, 0, 0]\nhalf_extents = [1, 1, 1]\n"
+                             "half_height = 1.0\n"),
+               Contains("key 'colliders[0].half_height' does not belong to a box (it is a cylinder's)"));
+  REQUIRE_THAT(error_of(dir, "[[colliders]]\nshape = \"cone\"\n"),
+               Contains("plane | sphere | capsule | box | cylinder"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("[[colliders]], [[moving-pins]], [[cloths]]: one reader names unknown and misspelt keys, bad entries",
           "[scene_file][tables]") {
   const fs::path dir = fresh_dir("tables");

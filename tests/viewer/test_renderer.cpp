@@ -247,6 +247,10 @@ TEST_CASE("collider meshes: every vertex on the surface, faces outward, placed b
       {"fully rounded box", C::box({0, 0, 0}, {0.3, 0.3, 0.6}, drape::Mat3<double>::Identity(), 0.3)},
       {"moving sphere", C::sphere({1, 2, 3}, 0.5).moving({1, 0, -2}, {0, 3, 0})},
       {"spinning box", C::box({0, 1, 0}, {0.4, 0.2, 0.3}, tilt, 0.05).moving({0, 0, 0}, {1, 2, 0.5})},
+      {"cylinder", C::cylinder({0, -1, 0}, 0.6, 0.1, tilt)},
+      {"rounded cylinder", C::cylinder({1, 0, 0}, 0.5, 0.3, tilt, 0.1).moving({0, 1, 0}, {2, 0, 1})},
+      {"cylinder with half-torus rims", C::cylinder({0, 0, 0}, 0.5, 0.2, drape::Mat3<double>::Identity(), 0.2)},
+      {"cylinder rounded to a capsule", C::cylinder({0, 0, 0}, 0.3, 0.6, drape::Mat3<double>::Identity(), 0.3)},
   };
   for (const Case& c : cases) {
     INFO(c.name);
@@ -284,6 +288,33 @@ TEST_CASE("collider meshes: every vertex on the surface, faces outward, placed b
     REQUIRE(std::abs(slope.query(p, 0.0).distance) < 1e-5);
     REQUIRE(quad.vertices[k + 3] == Approx(std::sqrt(0.5)).margin(1e-6));
   }
+}
+
+TEST_CASE("cylinder meshes: closed, outward, holding the solid's volume less the facets' chords", "[viewer][colliders]") {
+  using C = drape::Collider<double>;
+  constexpr double pi = 3.14159265358979323846;
+  // Sharp, rounded, rims a half torus, a capsule.
+  for (const auto& [rounding, h] : {std::pair{0.0, 0.2}, {0.05, 0.2}, {0.2, 0.2}, {0.3, 0.5}}) {
+    INFO("rounding " << rounding << ", half height " << h);
+    const double r = 0.3;
+    const std::vector<Eigen::Vector3f> mesh =
+        local_collider_mesh(C::cylinder({0, 0, 0}, r, h, drape::Mat3<double>::Identity(), rounding));
+    // The volume by the divergence theorem: only a closed mesh with outward faces gives the solid's.
+    double volume = 0;
+    for (std::size_t k = 0; k + 2 < mesh.size(); k += 3)
+      volume += double(mesh[k].dot(mesh[k + 1].cross(mesh[k + 2]))) / 6;
+    // Pappus: 2 pi times the first moment about the axis of the profile (x >= 0): the rectangle
+    // inside the rims, the side band beside it and the two quarter discs of the rims.
+    const double a = r - rounding;
+    const double moment = a * a * h + (r * r - a * a) * (h - rounding) +
+                          2 * (a * pi * rounding * rounding / 4 + rounding * rounding * rounding / 3);
+    const double exact = 2 * pi * moment;
+    INFO("mesh volume " << volume << ", solid " << exact);
+    CHECK(volume <= exact);
+    CHECK(volume >= 0.995 * exact);
+  }
+  // A plain cylinder: 80 sides, each a quad of the side and a triangle of each cap.
+  CHECK(local_collider_mesh(C::cylinder({0, 0, 0}, 1, 1)).size() == 3 * 80 * 4);
 }
 
 TEST_CASE("solids are drawn in their own colour, over the cloth where they are in front", "[viewer][colliders]") {

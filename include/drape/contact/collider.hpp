@@ -1,7 +1,7 @@
 #pragma once
 /// \file collider.hpp
-/// Analytic rigid colliders for cloth contact: a plane, a sphere, a capsule and a box with rounded
-/// edges, each an exact Euclidean signed distance in its own frame, placed and moved by a rigid
+/// Analytic rigid colliders for cloth contact: a plane, a sphere, a capsule, a box with rounded
+/// edges and a cylinder with rounded rims, each an exact Euclidean signed distance in its own frame, placed and moved by a rigid
 /// motion. A query returns the signed distance, the outward normal (its analytic gradient) and the
 /// velocity of the collider's surface at a point; a swept test finds the first time a point's
 /// straight path comes within a given offset of the surface, without sampling, so a fast point
@@ -67,15 +67,16 @@ class RigidMotion {
   std::function<RigidPose<Scalar>(Scalar)> m_callback;
 };
 
-enum class ShapeKind : std::uint8_t { Plane, Sphere, Capsule, Box };
+enum class ShapeKind : std::uint8_t { Plane, Sphere, Capsule, Box, Cylinder };
 
 template <>
 struct EnumNames<ShapeKind> {
   static constexpr const char* parameter = "collider shape";
-  static constexpr std::array<EnumName<ShapeKind>, 4> values{{{ShapeKind::Plane, "plane"},
+  static constexpr std::array<EnumName<ShapeKind>, 5> values{{{ShapeKind::Plane, "plane"},
                                                               {ShapeKind::Sphere, "sphere"},
                                                               {ShapeKind::Capsule, "capsule"},
-                                                              {ShapeKind::Box, "box"}}};
+                                                              {ShapeKind::Box, "box"},
+                                                              {ShapeKind::Cylinder, "cylinder"}}};
 };
 
 /// What a collider query returns at one point and time.
@@ -109,7 +110,9 @@ Scalar contact_tolerance(Scalar contact_thickness) {
 ///  - sphere: radius r about the origin;
 ///  - capsule: the segment from (-half_length, 0, 0) to (half_length, 0, 0) inflated by r;
 ///  - box: half extents h about the origin, edges and corners rounded with radius `rounding`
-///    inside the same outer size.
+///    inside the same outer size;
+///  - cylinder: radius r about the y axis from y = -half_height to half_height, its two rims
+///    rounded with radius `rounding` inside the same outer size.
 template <class Scalar = double>
 class Collider {
  public:
@@ -125,6 +128,11 @@ class Collider {
   /// each), `collider rotation` or `collider rounding` ([0, smallest half extent]).
   static Collider box(const Vec3<Scalar>& center, const Vec3<Scalar>& half_extents,
                       const Mat3<Scalar>& rotation = Mat3<Scalar>::Identity(), Scalar rounding = 0);
+  /// A cylinder about its local y axis (turned by `rotation`), centred at `center`.
+  /// \throws InvalidParameter naming `collider position`, `collider radius` or `collider half height`
+  /// (finite, > 0), `collider rotation` or `collider rounding` ([0, min(radius, half height)]).
+  static Collider cylinder(const Vec3<Scalar>& center, Scalar radius, Scalar half_height,
+                           const Mat3<Scalar>& rotation = Mat3<Scalar>::Identity(), Scalar rounding = 0);
 
   /// The motion of the shape's local frame; it replaces the factory's placement.
   Collider& set_motion(RigidMotion<Scalar> motion);
@@ -136,13 +144,15 @@ class Collider {
   Collider& set_friction(Scalar static_coefficient, Scalar kinetic_coefficient);
 
   ShapeKind kind() const { return m_kind; }
-  /// Sphere and capsule radius (0 for the other shapes).
+  /// Sphere, capsule and cylinder radius (0 for the other shapes).
   Scalar radius() const { return m_radius; }
   /// Capsule half length (0 for the other shapes).
   Scalar half_length() const { return m_half_length; }
   /// Box half extents (zero for the other shapes).
   const Vec3<Scalar>& half_extents() const { return m_half_extents; }
-  /// Box edge rounding (0 for the other shapes).
+  /// Cylinder half height along its local y axis (0 for the other shapes).
+  Scalar half_height() const { return m_half_height; }
+  /// Box edge and cylinder rim rounding (0 for the other shapes).
   Scalar rounding() const { return m_rounding; }
   Scalar static_friction() const { return m_static_friction; }
   Scalar kinetic_friction() const { return m_kinetic_friction; }
@@ -155,6 +165,10 @@ class Collider {
       case ShapeKind::Sphere: return m_radius;
       case ShapeKind::Capsule: return m_half_length + m_radius;
       case ShapeKind::Box: return m_half_extents.norm();
+      case ShapeKind::Cylinder: {  // the inner cylinder's rim, inflated by the rounding
+        const Scalar r = m_radius - m_rounding, h = m_half_height - m_rounding;
+        return std::sqrt(r * r + h * h) + m_rounding;
+      }
     }
     return std::numeric_limits<Scalar>::infinity();
   }
@@ -188,10 +202,11 @@ class Collider {
   Collider(ShapeKind kind, RigidMotion<Scalar> motion) : m_kind(kind), m_motion(std::move(motion)) {}
   /// The shape's signed distance and its gradient at local point p.
   LocalDistance local_distance(const Vec3<Scalar>& p) const;
+  LocalDistance cylinder_distance(const Vec3<Scalar>& p) const;
 
   ShapeKind m_kind;
   RigidMotion<Scalar> m_motion;
-  Scalar m_radius = 0, m_half_length = 0, m_rounding = 0;
+  Scalar m_radius = 0, m_half_length = 0, m_half_height = 0, m_rounding = 0;
   Vec3<Scalar> m_half_extents = Vec3<Scalar>::Zero();
   Scalar m_static_friction = 0, m_kinetic_friction = 0;
 };
@@ -301,6 +316,21 @@ Collider<Scalar> Collider<Scalar>::box(const Vec3<Scalar>& center, const Vec3<Sc
 }
 
 template <class Scalar>
+Collider<Scalar> Collider<Scalar>::cylinder(const Vec3<Scalar>& center, Scalar radius, Scalar half_height,
+                                            const Mat3<Scalar>& rotation, Scalar rounding) {
+  detail::require_positive_finite("collider radius", radius);
+  detail::require_positive_finite("collider half height", half_height);
+  const Scalar smallest = std::min(radius, half_height);
+  if (!(rounding >= 0 && rounding <= smallest))
+    detail::fail_argument("collider rounding", detail::to_text(rounding), "[0, " + detail::to_text(smallest) + "]");
+  Collider c(ShapeKind::Cylinder, RigidMotion<Scalar>::fixed(center, rotation));
+  c.m_radius = radius;
+  c.m_half_height = half_height;
+  c.m_rounding = rounding;
+  return c;
+}
+
+template <class Scalar>
 Collider<Scalar>& Collider<Scalar>::set_motion(RigidMotion<Scalar> motion) {
   m_motion = std::move(motion);
   return *this;
@@ -341,6 +371,7 @@ typename Collider<Scalar>::LocalDistance Collider<Scalar>::local_distance(const 
       return {r - m_radius, away(e, r)};
     }
     case ShapeKind::Box: break;
+    case ShapeKind::Cylinder: return cylinder_distance(p);
   }
   // The rounded box: the inner box h - rounding inflated by the rounding.
   const Vec3<Scalar> q = p.cwiseAbs() - (m_half_extents.array() - m_rounding).matrix();
@@ -354,6 +385,24 @@ typename Collider<Scalar>::LocalDistance Collider<Scalar>::local_distance(const 
   Vec3<Scalar> normal = Vec3<Scalar>::Zero();
   normal[face] = sign[face];
   return {deepest - m_rounding, normal};
+}
+
+template <class Scalar>
+typename Collider<Scalar>::LocalDistance Collider<Scalar>::cylinder_distance(const Vec3<Scalar>& p) const {
+  // A solid of revolution: the nearest surface point lies in p's half-plane through the axis, so the
+  // distance is the 2D rounded box's in (distance from the axis, y), the inner rectangle
+  // (r - rounding, half_height - rounding) inflated by the rounding.
+  const Scalar axial = std::sqrt(p.x() * p.x() + p.z() * p.z());
+  // The way out from the axis; on the axis any horizontal unit vector is a subgradient.
+  const Vec3<Scalar> radial = axial > 0 ? Vec3<Scalar>(p.x() / axial, 0, p.z() / axial) : Vec3<Scalar>::UnitX();
+  const Scalar up = p.y() < 0 ? Scalar(-1) : Scalar(1);
+  const Scalar qr = axial - (m_radius - m_rounding), qy = std::abs(p.y()) - (m_half_height - m_rounding);
+  const Scalar outr = std::max(qr, Scalar(0)), outy = std::max(qy, Scalar(0));
+  const Scalar out = std::sqrt(outr * outr + outy * outy);
+  if (out > 0) return {out - m_rounding, (outr * radial + Vec3<Scalar>(0, up * outy, 0)) / out};
+  // Inside the inner cylinder: the nearer of the side and the cap.
+  if (qr >= qy) return {qr - m_rounding, radial};
+  return {qy - m_rounding, Vec3<Scalar>(0, up, 0)};
 }
 
 template <class Scalar>

@@ -9,7 +9,9 @@
 /// The mesh is a grid on each face of the outer box, mapped onto that surface (each grid point goes
 /// to the inner box's nearest point plus r towards it); grid lines sit at the ends of the flat parts
 /// and at equal angles across the rounded bands, so a plain box has one quad per face and a
-/// sphere is a cube-sphere. Triangles are flat shaded (face normals), outward.
+/// sphere is a cube-sphere. The cylinder is a surface of revolution: a profile from the top cap's
+/// centre over the rounded rims to the bottom cap's centre, turned about the y axis. Triangles are
+/// flat shaded (face normals), outward.
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -21,6 +23,54 @@
 #include "drape/viewer/solid_mesh.hpp"
 
 namespace drape::viewer {
+
+namespace detail {
+
+/// Appends abc to `triangles` facing outward (the shapes are convex about their local origin),
+/// unless it is degenerate (a band's pole, a cap's centre); `size_squared`: the shape's squared size.
+inline void add_outward(std::vector<Eigen::Vector3f>& triangles, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                        const Eigen::Vector3d& c, double size_squared) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  if (!(n.norm() > 1e-12 * std::max(1.0, size_squared))) return;
+  const bool outward = n.dot(a + b + c) >= 0;
+  triangles.push_back(a.cast<float>());
+  triangles.push_back((outward ? b : c).cast<float>());
+  triangles.push_back((outward ? c : b).cast<float>());
+}
+
+/// The cylinder of `radius` and `half_height` about y with rims rounded by `r`: the profile in
+/// (distance from the axis, y) turned about y in 8 * `segments` steps, each rim 2 * `segments`.
+inline std::vector<Eigen::Vector3f> cylinder_mesh(double radius, double half_height, double r, int segments) {
+  constexpr double quarter_turn = 1.5707963267948966;
+  std::vector<Eigen::Vector2d> profile{{0, half_height}};
+  const int rim = r > 0 ? 2 * segments : 0;
+  for (int j = 0; j <= rim; ++j) {  // upper rim, from the cap to the side
+    const double angle = rim > 0 ? quarter_turn * (1 - double(j) / rim) : 0;
+    profile.emplace_back(radius - r + r * std::cos(angle), half_height - r + r * std::sin(angle));
+  }
+  for (int j = rim; j >= 0; --j) {  // lower rim, the mirror image, from the side to the cap
+    const Eigen::Vector2d upper = profile[std::size_t(j + 1)];
+    profile.emplace_back(upper.x(), -upper.y());
+  }
+  profile.emplace_back(0, -half_height);
+  const int around = 8 * segments;
+  const auto point = [&](std::size_t i, int k) {
+    const double angle = 4 * quarter_turn * (k % around) / around;  // the seam closes exactly
+    return Eigen::Vector3d(profile[i].x() * std::cos(angle), profile[i].y(), profile[i].x() * std::sin(angle));
+  };
+  const double size_squared = radius * radius + half_height * half_height;
+  std::vector<Eigen::Vector3f> triangles;
+  for (std::size_t i = 0; i + 1 < profile.size(); ++i)
+    for (int k = 0; k < around; ++k) {
+      const Eigen::Vector3d p00 = point(i, k), p10 = point(i + 1, k), p11 = point(i + 1, k + 1),
+                            p01 = point(i, k + 1);
+      add_outward(triangles, p00, p10, p11, size_squared);
+      add_outward(triangles, p00, p11, p01, size_squared);
+    }
+  return triangles;
+}
+
+}  // namespace detail
 
 /// Triangles (three vertices each, in the collider's local frame) of the closed surface of
 /// `collider`; empty for a plane. `segments`: grid segments per 45 degrees of a rounded band.
@@ -43,6 +93,9 @@ std::vector<Eigen::Vector3f> local_collider_mesh(const Collider<Scalar>& collide
       outer = collider.half_extents().template cast<double>();
       inner = (outer.array() - r).max(0.0).matrix();
       break;
+    case ShapeKind::Cylinder:
+      return detail::cylinder_mesh(double(collider.radius()), double(collider.half_height()),
+                                   double(collider.rounding()), segments);
   }
   outer = inner.array() + r;
   constexpr double quarter_turn_half = 0.78539816339744831;  // 45 degrees
@@ -66,12 +119,7 @@ std::vector<Eigen::Vector3f> local_collider_mesh(const Collider<Scalar>& collide
   };
   std::vector<Eigen::Vector3f> triangles;
   const auto add = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    if (!(n.norm() > 1e-12 * std::max(1.0, outer.squaredNorm()))) return;  // degenerate (a band's pole)
-    const bool outward = n.dot(a + b + c) >= 0;                            // convex about the origin
-    triangles.push_back(a.cast<float>());
-    triangles.push_back((outward ? b : c).cast<float>());
-    triangles.push_back((outward ? c : b).cast<float>());
+    detail::add_outward(triangles, a, b, c, outer.squaredNorm());
   };
   for (int a = 0; a < 3; ++a) {
     const int u = (a + 1) % 3, v = (a + 2) % 3;
