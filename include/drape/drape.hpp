@@ -15,7 +15,7 @@
 #include "drape/platform/instruction_set.hpp"
 #include "drape/platform/vector_sqrt.hpp"
 
-// core: types, checks, option names, the parts of the cloth model
+// core: types, checks, option names, the parts of the cloth model, meshes and their generators
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/core/enum_names.hpp"
@@ -30,6 +30,8 @@
 #include "drape/core/state.hpp"
 #include "drape/core/force_term.hpp"
 #include "drape/core/placement.hpp"
+#include "drape/core/cloth_mesh.hpp"
+#include "drape/core/mesh_generators.hpp"
 
 // linalg: 3x3 block storage and the linear system solvers are handed
 #include "drape/linalg/block3.hpp"
@@ -55,7 +57,7 @@
 // model: the cloth composed of core's parts and contact's settings
 #include "drape/model/cloth.hpp"
 
-// physics: forces, their derivatives, the system assembly, diagnostics
+// physics: forces, their derivatives, the system assembly, diagnostics, drape measures
 #include "drape/physics/spring_kernel.hpp"
 #include "drape/physics/spring_jacobian.hpp"
 #include "drape/physics/spring_families.hpp"
@@ -67,6 +69,7 @@
 #include "drape/physics/air.hpp"
 #include "drape/physics/dihedral_bending.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/physics/drape_measures.hpp"
 
 // solvers: linear solvers and preconditioners (know nothing of cloth)
 #include "drape/solvers/solve_status.hpp"
