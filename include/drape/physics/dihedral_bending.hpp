@@ -51,7 +51,9 @@ class DihedralBending final : public ForceTerm<Scalar> {
   /// (a, b, c, d) order (1/m^2).
   using AngleHessian = std::array<std::array<Mat3<Scalar>, 4>, 4>;
 
-  /// `stiffness` k (N m) and `damping` c (N m s) per unit of the scaled hinge constants above.
+  /// `stiffness` k (N m) and `damping` c (N m s); each hinge's k_e and c_e are these times
+  /// 3 |e|^2 / (A1 + A2). On near-equilateral meshes the bending rigidity is about 3 k (drape's
+  /// bending.md, "Stiffness per hinge").
   /// \throws InvalidParameter naming `bending stiffness` or `bending damping` unless finite and
   /// >= 0, or as ClothMesh::validate() (naming `mesh`).
   DihedralBending(const ClothMesh<Scalar>& mesh, Scalar stiffness, Scalar damping = Scalar(0));
