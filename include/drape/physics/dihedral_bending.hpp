@@ -51,7 +51,9 @@ class DihedralBending final : public ForceTerm<Scalar> {
   /// (a, b, c, d) order (1/m^2).
   using AngleHessian = std::array<std::array<Mat3<Scalar>, 4>, 4>;
 
-  /// `stiffness` k (N m) and `damping` c (N m s) per unit of the scaled hinge constants above.
+  /// `stiffness` k (N m) and `damping` c (N m s); each hinge's k_e and c_e are these times
+  /// 3 |e|^2 / (A1 + A2). On near-equilateral meshes the bending rigidity is about 3 k (drape's
+  /// bending.md, "Stiffness per hinge").
   /// \throws InvalidParameter naming `bending stiffness` or `bending damping` unless finite and
   /// >= 0, or as ClothMesh::validate() (naming `mesh`).
   DihedralBending(const ClothMesh<Scalar>& mesh, Scalar stiffness, Scalar damping = Scalar(0));
@@ -250,7 +252,7 @@ DihedralBending<Scalar>::DihedralBending(const ClothMesh<Scalar>& mesh, Scalar s
   const Matrix3X<Scalar> rest = mesh.rest_shape();
   m_constants.reserve(m_hinges.size());
   for (const Hinge& h : m_hinges) {
-    detail::HingeGeometry<Scalar> geometry;
+    detail::HingeGeometry<Scalar> geometry{};
     // validate() has rejected triangles without area in the rest shape.
     geometry.init(rest.col(h.a), rest.col(h.b), rest.col(h.c), rest.col(h.d));
     // 3 |e|^2 / (A1 + A2) with A_i = |N_i| / 2.
@@ -346,7 +348,7 @@ Scalar DihedralBending<Scalar>::energy(const ConstRef3X<Scalar>& x) const {
   Scalar sum = 0;
   for (std::size_t k = 0; k < m_hinges.size(); ++k) {
     const Hinge& h = m_hinges[k];
-    detail::HingeGeometry<Scalar> geometry;
+    detail::HingeGeometry<Scalar> geometry{};
     if (!geometry.init(x.col(h.a), x.col(h.b), x.col(h.c), x.col(h.d))) continue;
     const Scalar strain = wrapped(geometry.angle - m_constants[k].rest_angle);
     sum += Scalar(0.5) * m_constants[k].stiffness * strain * strain;
@@ -378,7 +380,7 @@ void DihedralBending<Scalar>::pass(const ConstRef3X<Scalar>& x, const ConstRef3X
     const Hinge& hinge = m_hinges[static_cast<std::size_t>(k)];
     const HingeConstants& constants = m_constants[static_cast<std::size_t>(k)];
     const std::array<int, 4> node{hinge.a, hinge.b, hinge.c, hinge.d};
-    detail::HingeGeometry<Scalar> geometry;
+    detail::HingeGeometry<Scalar> geometry{};
     if (!geometry.init(x.col(node[0]), x.col(node[1]), x.col(node[2]), x.col(node[3]))) return;
     std::array<Vec3<Scalar>, 4> g;
     geometry.gradient(g);
