@@ -231,8 +231,8 @@ void bind_settings(nb::module_& m) {
 void bind_collider(nb::module_& m) {
   using Collider = drape::Colliderd;
   nb::class_<Collider>(m, "Collider",
-                       "A rigid shape the cloth cannot enter (plane, sphere, capsule, box, cylinder), static or moving with "
-                       "constant velocities, with Coulomb friction (docs/contact.md).")
+                       "A rigid shape the cloth cannot enter (plane, sphere, capsule, box, cylinder), static or moving "
+                       "with constant velocities, with Coulomb friction (docs/contact.md).")
       .def_static(
           "plane", [](const Vector& point, const Vector& normal) { return Collider::plane(vec3(point), vec3(normal)); },
           "point"_a, "normal"_a, "The half-space below the plane through `point` with outward `normal` (any length).")
