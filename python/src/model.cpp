@@ -114,6 +114,15 @@ drape::SpringParams<double> spring_params(const SpringInput& in) {
   return {pair.first, pair.second};
 }
 
+/// A rotation given as 3 rows, or the identity.
+drape::Mat3<double> rotation_matrix(const std::optional<std::array<Vector, 3>>& rows) {
+  drape::Mat3<double> r = drape::Mat3<double>::Identity();
+  if (rows)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) r(i, j) = (*rows)[std::size_t(i)][std::size_t(j)];
+  return r;
+}
+
 // ---- states -------------------------------------------------------------------------------------
 
 /// `state`, checked to have one node per node of `cloth`.
@@ -242,8 +251,8 @@ void bind_settings(nb::module_& m) {
 void bind_collider(nb::module_& m) {
   using Collider = drape::Colliderd;
   nb::class_<Collider>(m, "Collider",
-                       "A rigid shape the cloth cannot enter (plane, sphere, capsule, box), static or moving with "
-                       "constant velocities, with Coulomb friction (docs/contact.md).")
+                       "A rigid shape the cloth cannot enter (plane, sphere, capsule, box, cylinder), static or moving "
+                       "with constant velocities, with Coulomb friction (docs/contact.md).")
       .def_static(
           "plane", [](const Vector& point, const Vector& normal) { return Collider::plane(vec3(point), vec3(normal)); },
           "point"_a, "normal"_a, "The half-space below the plane through `point` with outward `normal` (any length).")
@@ -258,14 +267,19 @@ void bind_collider(nb::module_& m) {
           "box",
           [](const Vector& center, const Vector& half_extents, std::optional<std::array<Vector, 3>> rotation,
              double rounding) {
-            drape::Mat3<double> r = drape::Mat3<double>::Identity();
-            if (rotation)
-              for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) r(i, j) = (*rotation)[std::size_t(i)][std::size_t(j)];
-            return Collider::box(vec3(center), vec3(half_extents), r, rounding);
+            return Collider::box(vec3(center), vec3(half_extents), rotation_matrix(rotation), rounding);
           },
           "center"_a, "half_extents"_a, "rotation"_a = nb::none(), "rounding"_a = 0.0,
           "A box; `rotation` a 3x3 rotation matrix (rows), `rounding` the radius of its edges and corners.")
+      .def_static(
+          "cylinder",
+          [](const Vector& center, double radius, double half_height, std::optional<std::array<Vector, 3>> rotation,
+             double rounding) {
+            return Collider::cylinder(vec3(center), radius, half_height, rotation_matrix(rotation), rounding);
+          },
+          "center"_a, "radius"_a, "half_height"_a, "rotation"_a = nb::none(), "rounding"_a = 0.0,
+          "A cylinder about its local y axis from -half_height to half_height; `rotation` a 3x3 rotation matrix "
+          "(rows), `rounding` the radius of its two rims.")
       .def(
           "set_friction",
           [](Collider& c, double static_coefficient, std::optional<double> kinetic_coefficient) -> Collider& {
@@ -283,12 +297,13 @@ void bind_collider(nb::module_& m) {
           "the collider.")
       .def_prop_ro(
           "kind", [](const Collider& c) { return std::string(drape::to_string(c.kind())); },
-          "'plane', 'sphere', 'capsule' or 'box'.")
-      .def_prop_ro("radius", &Collider::radius, "Sphere and capsule radius (0 otherwise).")
+          "'plane', 'sphere', 'capsule', 'box' or 'cylinder'.")
+      .def_prop_ro("radius", &Collider::radius, "Sphere, capsule and cylinder radius (0 otherwise).")
       .def_prop_ro("half_length", &Collider::half_length, "Capsule half length (0 otherwise).")
       .def_prop_ro(
           "half_extents", [](const Collider& c) { return array3(c.half_extents()); }, "Box half extents.")
-      .def_prop_ro("rounding", &Collider::rounding, "Box edge rounding.")
+      .def_prop_ro("half_height", &Collider::half_height, "Cylinder half height (0 otherwise).")
+      .def_prop_ro("rounding", &Collider::rounding, "Box edge and cylinder rim rounding.")
       .def_prop_ro("static_friction", &Collider::static_friction, "Static friction coefficient.")
       .def_prop_ro("kinetic_friction", &Collider::kinetic_friction, "Kinetic friction coefficient.")
       .def_prop_ro(

@@ -280,3 +280,20 @@ def test_a_bad_mesh_names_the_element():
         drape.Cloth(drape.ClothSpec.from_mesh(vertices, triangles))
     with pytest.raises(drape.InvalidParameter, match="rest_uv"):
         drape.ClothSpec.from_mesh(vertices, triangles, rest_uv=np.zeros((3, 2)))
+def test_cylinder_collider_a_round_table():
+    table = drape.Collider.cylinder((0.4, -0.4, 0.4), 0.2, 0.1, rounding=0.05).set_friction(0.3)
+    assert (table.kind, table.radius, table.half_height, table.rounding) == ("cylinder", 0.2, 0.1, 0.05)
+    distance, normal, _ = table.query((0.4, 0.0, 0.4))
+    assert distance == pytest.approx(0.3) and normal == pytest.approx((0, 1, 0))
+    lying = drape.Collider.cylinder((0, 0, 0), 0.5, 1.0, rotation=[(1, 0, 0), (0, 0, -1), (0, 1, 0)])
+    distance, normal, _ = lying.query((0, 0, 3))  # its axis along z: 2 m from its cap
+    assert distance == pytest.approx(2.0) and normal == pytest.approx((0, 0, 1))
+    with pytest.raises(drape.InvalidParameter, match="'collider rounding'"):
+        drape.Collider.cylinder((0, 0, 0), 1.0, 0.5, rounding=0.6)
+    # A cloth dropped on it: its middle rests on the top, the rest hangs over the rim.
+    cloth = drape.Cloth(drape.ClothSpec(nx=9, ny=9, pinned_nodes=[], colliders=[table]))
+    state = cloth.initial_state()
+    drape.ImplicitEuler(cloth, dt=0.01, threads=1).run(state, 1.0)
+    y = state.positions[:, 1]
+    assert y[4 * 9 + 4] == pytest.approx(-0.3 + 0.005, abs=1e-3)
+    assert y.min() < -0.4

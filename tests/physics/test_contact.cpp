@@ -107,7 +107,7 @@ TEMPLATE_TEST_CASE("contact: a cloth dropped on a plane rests on it and the floo
   }
 }
 
-TEMPLATE_TEST_CASE("contact: a cloth dropped on a round table rests on its top; on a smaller one it drapes over the rim",
+TEMPLATE_TEST_CASE("contact: a cloth dropped on a round table rests on its top; over a smaller one it drapes",
                    "[contact][cylinder]", float, double) {
   using S = TestType;
   for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Symplectic}) {

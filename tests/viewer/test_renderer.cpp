@@ -290,7 +290,8 @@ TEST_CASE("collider meshes: every vertex on the surface, faces outward, placed b
   }
 }
 
-TEST_CASE("cylinder meshes: closed, outward, holding the solid's volume less the facets' chords", "[viewer][colliders]") {
+TEST_CASE("cylinder meshes: closed, outward, holding the solid's volume less the facets' chords",
+          "[viewer][colliders]") {
   using C = drape::Collider<double>;
   constexpr double pi = 3.14159265358979323846;
   // Sharp, rounded, rims a half torus, a capsule.

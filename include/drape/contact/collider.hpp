@@ -1,11 +1,11 @@
 #pragma once
 /// \file collider.hpp
 /// Analytic rigid colliders for cloth contact: a plane, a sphere, a capsule, a box with rounded
-/// edges and a cylinder with rounded rims, each an exact Euclidean signed distance in its own frame, placed and moved by a rigid
-/// motion. A query returns the signed distance, the outward normal (its analytic gradient) and the
-/// velocity of the collider's surface at a point; a swept test finds the first time a point's
-/// straight path comes within a given offset of the surface, without sampling, so a fast point
-/// cannot tunnel through a thin box.
+/// edges and a cylinder with rounded rims, each an exact Euclidean signed distance in its own
+/// frame, placed and moved by a rigid motion. A query returns the signed distance, the outward
+/// normal (its analytic gradient) and the velocity of the collider's surface at a point; a swept
+/// test finds the first time a point's straight path comes within a given offset of the surface,
+/// without sampling, so a fast point cannot tunnel through a thin box.
 
 #include <algorithm>
 #include <array>
