@@ -111,7 +111,9 @@ class AlgebraicMultigrid final : public Preconditioner<Scalar> {
   std::vector<Scalar> m_prolongator_omega;       // per level l >= 1: the weight of P to it
   std::vector<LevelVectors> m_vectors;
   VectorX<Scalar> m_lanczos[4];  // Lanczos vectors and a zero vector, as long as level 0's
+  std::vector<Scalar> m_diagonal;  // the Lanczos level's diagonal blocks
   std::vector<double> m_chunks;  // chunked_sum()'s partial sums
+  const LinearSystem<Scalar>* m_system = nullptr;  // of the last update
   const BlockSparseMatrix<Scalar>* m_fine = nullptr;
   BlockSparseMatrix<Scalar> m_filtered;  // S A S + I - S of a system with constraints
   std::vector<Scalar> m_coarsest;        // dense Cholesky factor (row-major, lower) of the coarsest level
@@ -155,6 +157,7 @@ template <class Scalar>
 void AlgebraicMultigrid<Scalar>::build(const LinearSystem<Scalar>& system) {
   const bool constrained = !system.constraints.empty();
   if (constrained) filter(system, false);
+  m_system = &system;
   m_fine = constrained ? &m_filtered : &system.matrix;
   const int rows = system.block_rows();
   const std::size_t max_levels = static_cast<std::size_t>(m_settings.max_levels);
@@ -163,6 +166,7 @@ void AlgebraicMultigrid<Scalar>::build(const LinearSystem<Scalar>& system) {
   m_omega.assign(max_levels, Scalar(0));
   m_prolongator_omega.assign(max_levels, Scalar(0));
   for (VectorX<Scalar>& v : m_lanczos) v.setZero(3 * static_cast<Index>(rows));
+  m_diagonal.assign(9 * static_cast<std::size_t>(rows), Scalar(0));
   m_chunks.assign(static_cast<std::size_t>(rows / chunk_rows + 1), 0.0);
   // Level by level: each level's weights come from its operator, the next level from those.
   double epsilon = m_settings.strength;
@@ -238,19 +242,23 @@ double AlgebraicMultigrid<Scalar>::spectral_radius(int l, bool shared) {
   Scalar* previous = m_lanczos[1].data();
   Scalar* w = m_lanczos[2].data();
   const Scalar* zero = m_lanczos[3].data();  // never written
+  Scalar* d = m_diagonal.data();  // the diagonal blocks, contiguous (the matrix's are scattered)
   const auto d_dot = [&](int begin, int end, const Scalar* x) {  // sum of x_r . D_r x_r
     double s = 0;
     for (int r = begin; r < end; ++r) {
-      const std::array<Scalar, 3> t = block_times(values + 9 * diagonal[r], x + 3 * r);
+      const std::array<Scalar, 3> t = block_times(d + 9 * static_cast<std::size_t>(r), x + 3 * r);
       s += double(x[3 * r]) * t[0] + double(x[3 * r + 1]) * t[1] + double(x[3 * r + 2]) * t[2];
     }
     return s;
   };
-  team_for_if(shared, 3 * rows, [&](int i) {
-    // A fixed start with every frequency: a multiplicative hash of the index mapped to [-1, 1).
-    const unsigned hash = static_cast<unsigned>(i + 1) * 2654435761u;
-    v[i] = Scalar(double(hash >> 8) / double(1u << 23) - 1.0);
-    previous[i] = Scalar(0);
+  team_for_if(shared, rows, [&](int r) {
+    for (int q = 0; q < 9; ++q) d[9 * static_cast<std::size_t>(r) + q] = values[9 * diagonal[r] + q];
+    for (int i = 3 * r; i < 3 * r + 3; ++i) {
+      // A fixed start with every frequency: a multiplicative hash of the index mapped to [-1, 1).
+      const unsigned hash = static_cast<unsigned>(i + 1) * 2654435761u;
+      v[i] = Scalar(double(hash >> 8) / double(1u << 23) - 1.0);
+      previous[i] = Scalar(0);
+    }
   });
   const double start_norm =
       std::sqrt(chunked_sum(rows, shared, [&](int begin, int end) { return d_dot(begin, end, v); }));
@@ -258,13 +266,17 @@ double AlgebraicMultigrid<Scalar>::spectral_radius(int l, bool shared) {
   constexpr int max_steps = 40;
   std::array<double, max_steps> alpha{}, beta{};  // beta[j]: coupling of steps j - 1 and j
   int steps = 0;
+  // A v: the fine level's edge form where the team shares it (as in residual()), else the block
+  // rows' residual kernel with b = 0, which gives -A v.
+  const bool edge_form = l == 0 && shared && m_fine == &m_system->matrix && m_system->edges.valid();
+  const Scalar sign = edge_form ? Scalar(1) : Scalar(-1);
   for (int j = 0; j < m_settings.spectral_steps; ++j) {
-    // w = -A v (the residual kernel with b = 0), alpha_j = v . A v
+    if (edge_form) m_system->edges.multiply_in_team(v, w);
     alpha[static_cast<std::size_t>(j)] = chunked_sum(rows, shared, [&](int begin, int end) {
-      a.residual_rows(zero, v, w, begin, end);
+      if (!edge_form) a.residual_rows(zero, v, w, begin, end);
       double s = 0;
-      for (int i = 3 * begin; i < 3 * end; ++i) s -= double(v[i]) * double(w[i]);
-      return s;
+      for (int i = 3 * begin; i < 3 * end; ++i) s += double(v[i]) * double(w[i]);
+      return double(sign) * s;
     });
     steps = j + 1;
     const Scalar aj = Scalar(alpha[static_cast<std::size_t>(j)]), bj = Scalar(beta[static_cast<std::size_t>(j)]);
@@ -272,7 +284,7 @@ double AlgebraicMultigrid<Scalar>::spectral_radius(int l, bool shared) {
       for (int r = begin; r < end; ++r) {
         const std::array<Scalar, 3> t = jacobi.times(r, w + 3 * r);
         for (int q = 0; q < 3; ++q)
-          w[3 * r + q] = -t[static_cast<std::size_t>(q)] - aj * v[3 * r + q] - bj * previous[3 * r + q];
+          w[3 * r + q] = sign * t[static_cast<std::size_t>(q)] - aj * v[3 * r + q] - bj * previous[3 * r + q];
       }
       return d_dot(begin, end, w);
     });
@@ -353,9 +365,10 @@ bool AlgebraicMultigrid<Scalar>::update_in_team(const LinearSystem<Scalar>& syst
   const int levels = level_count();
   const bool constrained = !system.constraints.empty();
   team_single([&] {
+    m_system = &system;
     m_fine = constrained ? &m_filtered : &system.matrix;
     m_failed.store(0, std::memory_order_relaxed);
-  });  // the single's barrier publishes both
+  });  // the single's barrier publishes them
   const auto fail_unless = [&](bool ok) {
     if (!ok) m_failed.store(1, std::memory_order_relaxed);
   };
@@ -392,6 +405,13 @@ bool AlgebraicMultigrid<Scalar>::update_in_team(const LinearSystem<Scalar>& syst
 template <class Scalar>
 void AlgebraicMultigrid<Scalar>::residual(int l, const Scalar* b, const Scalar* x, Scalar* r, bool team) const {
   const BlockSparseMatrix<Scalar>& m = matrix(l);
+  // The fine level's edge form reads half the blocks (linalg/edge_operator.hpp). Only where the
+  // whole team shares the level, whatever its size, so the bits do not depend on the team.
+  if (l == 0 && team && m_fine == &m_system->matrix && m_system->edges.valid()) {
+    m_system->edges.multiply_in_team(x, r);
+    team_for(3 * m.block_rows(), [&](int i) { r[i] = b[i] - r[i]; });
+    return;
+  }
   if (team) {
     const auto share = even_share(m.block_rows(), team_rank(), team_size());
     m.residual_rows(b, x, r, int(share.first), int(share.second));
