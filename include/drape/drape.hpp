@@ -69,6 +69,7 @@
 #include "drape/physics/air.hpp"
 #include "drape/physics/dihedral_bending.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/physics/drape_measures.hpp"
 
 // solvers: linear solvers and preconditioners (know nothing of cloth)
 #include "drape/solvers/solve_status.hpp"

@@ -25,7 +25,7 @@
 #include "drape/io/state_io.hpp"
 #include "drape/model/cloth.hpp"
 #include "drape/physics/diagnostics.hpp"
-// drape_measures pending
+#include "drape/physics/drape_measures.hpp"
 #include "drape/physics/force_assembler.hpp"
 #include "drape/realtime/realtime_driver.hpp"
 #include "drape/scene/cloth_scene.hpp"

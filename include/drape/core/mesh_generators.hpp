@@ -46,11 +46,13 @@ constexpr long long max_generated_vertices = 16'000'000;
 /// rings stitched in order of angle (topologically the hexagonal lattice). The interior vertices
 /// are then smoothed (core/detail/planar_triangulation.hpp: 6 passes that move each vertex only to
 /// enlarge the smallest angle around it, the mesh flipped to Delaunay after each). The boundary is
-/// ring K, exactly on the circle, and the centre stays at the origin: the mesh covers the inscribed regular 6K-gon, of
-/// area 3 K radius^2 sin(pi / (3K)), which falls short of pi radius^2 by pi^2 / (54 K^2) of it to leading order (second
-/// order in edge_length). Every angle is above 43 degrees (60 for K = 1). Group "boundary": ring K. \throws
-/// InvalidParameter unless radius and edge_length are finite and > 0 and edge_length <= radius (one ring at least),
-/// with at most max_generated_vertices vertices.
+/// ring K, exactly on the circle, and the centre stays at the origin: the mesh covers the
+/// inscribed regular 6K-gon, of area 3 K radius^2 sin(pi / (3K)), which falls short of pi radius^2
+/// by pi^2 / (54 K^2) of it to leading order (second order in edge_length). Every angle is above
+/// 43 degrees (60 for K = 1). Group "boundary": ring K.
+///
+/// \throws InvalidParameter unless radius and edge_length are finite and > 0 and edge_length <=
+/// radius (one ring at least), with at most max_generated_vertices vertices.
 template <class Scalar = double>
 ClothMesh<Scalar> disk_mesh(Scalar radius, Scalar edge_length);
 
