@@ -611,12 +611,16 @@ TEST_CASE("amg: chosen by name, needs no lattice, and steps an implicit cloth wi
   const auto* cg = dynamic_cast<const PcgSolver<double>*>(solver.get());
   REQUIRE(cg);
   CHECK(dynamic_cast<const AlgebraicMultigrid<double>*>(&cg->preconditioner()));
-  // Without a lattice layout: the geometric multigrid refuses the system, amg solves it.
+  // Without a lattice layout: the geometric multigrid refuses the system, and PCG where it was
+  // chosen takes amg, which solves it.
   GridProblem<double> p(17, PinTreatment::Eliminate);
   p.system.layout = GridLayout{};
-  settings.preconditioner = PreconditionerKind::Multigrid;
-  PcgSolver<double> geometric(settings);
+  MultigridPreconditioner<double> geometric;
   CHECK_THROWS_AS(geometric.analyze(p.system), InvalidParameter);
+  settings.preconditioner = PreconditionerKind::Multigrid;
+  PcgSolver<double> chosen(settings);
+  chosen.analyze(p.system);
+  CHECK(dynamic_cast<const AlgebraicMultigrid<double>*>(&chosen.preconditioner()) != nullptr);
   CHECK(pcg(p.system, PreconditionerKind::AlgebraicMultigrid, 1e-8).status.ok());
 
   // A cloth dropped on a sphere: contacts are projected rows that come and go every step.

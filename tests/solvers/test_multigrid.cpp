@@ -525,10 +525,14 @@ TEST_CASE("multigrid: bad set-up is rejected with the parameter's name", "[multi
   const auto p = make_problem<double>(9);
   IterativeSettings settings;
   settings.preconditioner = PreconditionerKind::Multigrid;
-  PcgSolver<double> no_layout(settings);
   LinearSystem<double> without_layout = p->system;
   without_layout.layout = GridLayout{};
-  CHECK_THROWS_WITH(no_layout.analyze(without_layout), Catch::Contains("preconditioner"));
+  MultigridPreconditioner<double> alone;
+  CHECK_THROWS_WITH(alone.analyze(without_layout), Catch::Contains("preconditioner"));
+  // PCG takes the algebraic multigrid instead (a cloth that is not a grid).
+  PcgSolver<double> no_layout(settings);
+  no_layout.analyze(without_layout);
+  CHECK(dynamic_cast<const AlgebraicMultigrid<double>*>(&no_layout.preconditioner()) != nullptr);
   MultigridPreconditioner<double> mg;
   LinearSystem<double> wrong = p->system;
   wrong.layout.nx = 8;
