@@ -337,7 +337,7 @@ bool AggregationHierarchy<Scalar>::add_level(const BlockSparseMatrix<Scalar>& fi
   c.member_begin.assign(static_cast<std::size_t>(c.rows) + 1, 0);
   for (int i = 0; i < fine_rows; ++i)
     if (at(c.aggregate_of, i) >= 0) ++c.member_begin[static_cast<std::size_t>(at(c.aggregate_of, i)) + 1];
-  for (int J = 0; J < c.rows; ++J) c.member_begin[static_cast<std::size_t>(J) + 1] += at(c.member_begin, J);
+  for (int cj = 0; cj < c.rows; ++cj) c.member_begin[static_cast<std::size_t>(cj) + 1] += at(c.member_begin, cj);
   c.member.resize(static_cast<std::size_t>(c.member_begin.back()));
   {
     std::vector<int> next(c.member_begin.begin(), c.member_begin.end() - 1);  // indexed by aggregate
@@ -373,16 +373,16 @@ bool AggregationHierarchy<Scalar>::add_level(const BlockSparseMatrix<Scalar>& fi
     if (at(c.aggregate_of, i) >= 0) row_terms.emplace_back(at(c.aggregate_of, i), -1);
     if (smoothed)
       for (int q = at(c.strong_begin, i); q < at(c.strong_begin, i + 1); ++q) {
-        const int J = at(c.aggregate_of, col[at(c.strong, q)]);
-        if (J >= 0) row_terms.emplace_back(J, q);
+        const int cj = at(c.aggregate_of, col[at(c.strong, q)]);
+        if (cj >= 0) row_terms.emplace_back(cj, q);
       }
     std::stable_sort(row_terms.begin(), row_terms.end(),
                      [](const std::pair<int, int>& x, const std::pair<int, int>& y) { return x.first < y.first; });
     for (std::size_t t = 0; t < row_terms.size(); ++t) {
-      const int J = row_terms[t].first;
-      if (t == 0 || row_terms[t - 1].first != J) {
+      const int cj = row_terms[t].first;
+      if (t == 0 || row_terms[t - 1].first != cj) {
         if (t > 0) c.p_term_begin.push_back(static_cast<int>(c.p_term_block.size()));
-        c.p_column.push_back(J);
+        c.p_column.push_back(cj);
         c.p_tentative.push_back(0);
       }
       if (row_terms[t].second < 0) {
@@ -398,8 +398,8 @@ bool AggregationHierarchy<Scalar>::add_level(const BlockSparseMatrix<Scalar>& fi
 
   // P^T by row of this level (finer rows in order).
   c.r_begin.assign(static_cast<std::size_t>(c.rows) + 1, 0);
-  for (int J : c.p_column) ++c.r_begin[static_cast<std::size_t>(J) + 1];
-  for (int J = 0; J < c.rows; ++J) c.r_begin[static_cast<std::size_t>(J) + 1] += at(c.r_begin, J);
+  for (int cj : c.p_column) ++c.r_begin[static_cast<std::size_t>(cj) + 1];
+  for (int cj = 0; cj < c.rows; ++cj) c.r_begin[static_cast<std::size_t>(cj) + 1] += at(c.r_begin, cj);
   c.r_row.resize(c.p_column.size());
   c.r_block.resize(c.p_column.size());
   {
@@ -440,29 +440,29 @@ bool AggregationHierarchy<Scalar>::add_level(const BlockSparseMatrix<Scalar>& fi
   // each block on or above the diagonal.
   std::vector<std::vector<std::array<int, 3>>> pairs(static_cast<std::size_t>(c.rows));  // (J, P block, AP block)
   std::vector<std::vector<int>> columns(static_cast<std::size_t>(c.rows));
-  for (int I = 0; I < c.rows; ++I) {
-    for (int s = at(c.r_begin, I); s < at(c.r_begin, I + 1); ++s) {
+  for (int ci = 0; ci < c.rows; ++ci) {
+    for (int s = at(c.r_begin, ci); s < at(c.r_begin, ci + 1); ++s) {
       const int i = at(c.r_row, s);
       for (int f = at(c.ap_begin, i); f < at(c.ap_begin, i + 1); ++f) {
-        const int J = at(c.ap_column, f);
-        if (J < I) continue;
-        pairs[static_cast<std::size_t>(I)].push_back({J, at(c.r_block, s), f});
-        columns[static_cast<std::size_t>(I)].push_back(J);
-        columns[static_cast<std::size_t>(J)].push_back(I);
+        const int cj = at(c.ap_column, f);
+        if (cj < ci) continue;
+        pairs[static_cast<std::size_t>(ci)].push_back({cj, at(c.r_block, s), f});
+        columns[static_cast<std::size_t>(ci)].push_back(cj);
+        columns[static_cast<std::size_t>(cj)].push_back(ci);
       }
     }
   }
   c.a = BlockSparseMatrix<Scalar>(std::move(columns));
   c.g_begin.assign(1, 0);
-  for (int I = 0; I < c.rows; ++I) {
-    std::vector<std::array<int, 3>>& list = pairs[static_cast<std::size_t>(I)];
+  for (int ci = 0; ci < c.rows; ++ci) {
+    std::vector<std::array<int, 3>>& list = pairs[static_cast<std::size_t>(ci)];
     std::stable_sort(list.begin(), list.end(),
                      [](const std::array<int, 3>& x, const std::array<int, 3>& y) { return x[0] < y[0]; });
     for (std::size_t t = 0; t < list.size(); ++t) {
       if (t > 0 && list[t - 1][0] != list[t][0]) c.g_begin.push_back(static_cast<int>(c.g_p.size()));
       if (t == 0 || list[t - 1][0] != list[t][0]) {
-        c.g_upper.push_back(c.a.find(I, list[t][0]));
-        c.g_row.push_back(I);
+        c.g_upper.push_back(c.a.find(ci, list[t][0]));
+        c.g_row.push_back(ci);
       }
       c.g_p.push_back(list[t][1]);
       c.g_ap.push_back(list[t][2]);
@@ -471,8 +471,8 @@ bool AggregationHierarchy<Scalar>::add_level(const BlockSparseMatrix<Scalar>& fi
   }
   c.kind.assign(static_cast<std::size_t>(c.rows), ConstraintKind::Free);
   c.projection.assign(9 * static_cast<std::size_t>(c.rows), Scalar(0));
-  for (int J = 0; J < c.rows; ++J)
-    Eigen::Map<Mat3<Scalar>>(c.projection.data() + 9 * static_cast<std::size_t>(J)).setIdentity();
+  for (int cj = 0; cj < c.rows; ++cj)
+    Eigen::Map<Mat3<Scalar>>(c.projection.data() + 9 * static_cast<std::size_t>(cj)).setIdentity();
   m_levels.push_back(std::move(c));
   return true;
 }
@@ -522,16 +522,16 @@ bool AggregationHierarchy<Scalar>::update(int l, const BlockSparseMatrix<Scalar>
         m_failed.store(1, std::memory_order_relaxed);
     });
   // The coarse filters: the directions the members' filters leave, all three if every member is free.
-  team_for_if(shared, c.rows, [&](int J) {
+  team_for_if(shared, c.rows, [&](int cj) {
     Mat3<Scalar> sum = Mat3<Scalar>::Zero();
     bool free = true;
-    for (int m = at(c.member_begin, J); m < at(c.member_begin, J + 1); ++m) {
+    for (int m = at(c.member_begin, cj); m < at(c.member_begin, cj + 1); ++m) {
       const int i = at(c.member, m);
       if (f.kind[static_cast<std::size_t>(i)] != ConstraintKind::Free) free = false;
       sum += fine_filter(i);
     }
-    Eigen::Map<Mat3<Scalar>> projection(c.projection.data() + 9 * static_cast<std::size_t>(J));
-    ConstraintKind& kind = c.kind[static_cast<std::size_t>(J)];
+    Eigen::Map<Mat3<Scalar>> projection(c.projection.data() + 9 * static_cast<std::size_t>(cj));
+    ConstraintKind& kind = c.kind[static_cast<std::size_t>(cj)];
     if (free) {
       if (kind != ConstraintKind::Free) projection.setIdentity();
       kind = ConstraintKind::Free;
@@ -573,17 +573,17 @@ bool AggregationHierarchy<Scalar>::update(int l, const BlockSparseMatrix<Scalar>
         p.noalias() = -omega * (d_inverse * sum);
       if (c.p_tentative[static_cast<std::size_t>(e)]) p.diagonal().array() += Scalar(1) - omega;
       if (!row_free) p = (fine_filter(i) * p).eval();
-      const int J = at(c.p_column, e);
-      const ConstraintKind coarse = c.kind[static_cast<std::size_t>(J)];
+      const int cj = at(c.p_column, e);
+      const ConstraintKind coarse = c.kind[static_cast<std::size_t>(cj)];
       if (coarse == ConstraintKind::Fixed) p.setZero();
       if (coarse == ConstraintKind::Projected)
-        p = (p * Block(c.projection.data() + 9 * static_cast<std::size_t>(J))).eval();
+        p = (p * Block(c.projection.data() + 9 * static_cast<std::size_t>(cj))).eval();
       Eigen::Map<Mat3<Scalar>>(c.p_value.data() + 9 * static_cast<std::size_t>(e)) = p;
     }
   });
   // P^T's blocks for the restriction, and A P.
-  team_for_if(shared, c.rows, [&](int J) {
-    for (int s = at(c.r_begin, J); s < at(c.r_begin, J + 1); ++s)
+  team_for_if(shared, c.rows, [&](int cj) {
+    for (int s = at(c.r_begin, cj); s < at(c.r_begin, cj + 1); ++s)
       Eigen::Map<Mat3<Scalar>>(c.r_value.data() + 9 * static_cast<std::size_t>(s)) =
           Block(c.p_value.data() + 9 * static_cast<std::size_t>(at(c.r_block, s))).transpose();
   });
@@ -604,10 +604,10 @@ bool AggregationHierarchy<Scalar>::update(int l, const BlockSparseMatrix<Scalar>
     for (int t = at(c.g_begin, u); t < at(c.g_begin, u + 1); ++t)
       sum.noalias() += Block(c.p_value.data() + 9 * static_cast<std::size_t>(at(c.g_p, t))).transpose() *
                        Block(c.ap_value.data() + 9 * static_cast<std::size_t>(at(c.g_ap, t)));
-    const int I = at(c.g_row, u), block = at(c.g_upper, u);
-    if (block == c.a.diagonal()[static_cast<std::size_t>(I)] &&
-        c.kind[static_cast<std::size_t>(I)] != ConstraintKind::Free)
-      sum += Mat3<Scalar>::Identity() - Block(c.projection.data() + 9 * static_cast<std::size_t>(I));
+    const int ci = at(c.g_row, u), block = at(c.g_upper, u);
+    if (block == c.a.diagonal()[static_cast<std::size_t>(ci)] &&
+        c.kind[static_cast<std::size_t>(ci)] != ConstraintKind::Free)
+      sum += Mat3<Scalar>::Identity() - Block(c.projection.data() + 9 * static_cast<std::size_t>(ci));
     detail::store_coarse_block(sum.data(), block, transposed, coarse);
   });
   return m_failed.load(std::memory_order_relaxed) == 0;
@@ -619,17 +619,17 @@ void AggregationHierarchy<Scalar>::restrict_to(int l, const Scalar* fine, Scalar
   const int* begin = c.r_begin.data();
   const int* row = c.r_row.data();
   const Scalar* value = c.r_value.data();
-  team_for_if(shared, c.rows, [&](int J) {
+  team_for_if(shared, c.rows, [&](int cj) {
     Scalar s0 = 0, s1 = 0, s2 = 0;
-    for (int s = begin[J]; s < begin[J + 1]; ++s) {
+    for (int s = begin[cj]; s < begin[cj + 1]; ++s) {
       const std::array<Scalar, 3> t = block_times(value + 9 * static_cast<std::size_t>(s), fine + 3 * row[s]);
       s0 += t[0];
       s1 += t[1];
       s2 += t[2];
     }
-    coarse[3 * J] = s0;
-    coarse[3 * J + 1] = s1;
-    coarse[3 * J + 2] = s2;
+    coarse[3 * cj] = s0;
+    coarse[3 * cj + 1] = s1;
+    coarse[3 * cj + 2] = s2;
   });
 }
 
