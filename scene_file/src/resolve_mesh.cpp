@@ -36,7 +36,18 @@ drape::ClothMesh<double> read_mesh_file(const MeshSource& m) {
 #endif
 }
 
+/// Vertices a scene file may generate: a scene's mesh, not a stress test (the library's generators
+/// take up to drape::max_generated_vertices through the API).
+constexpr double max_scene_vertices = 100'000;
+
 drape::ClothMesh<double> generated_mesh(const MeshSource& m) {
+  // Near-equilateral triangles of edge h: about 2 / (sqrt(3) h^2) vertices per m^2.
+  const double area = m.shape == "disk" ? 3.14159265358979 * m.radius * m.radius : m.size[0] * m.size[1];
+  const double h = m.edge_length;
+  if (std::isfinite(area) && std::isfinite(h) && h > 0 && area * 2 / (std::sqrt(3.0) * h * h) > max_scene_vertices)
+    fail("--edge-length", number(h),
+         "an edge length that gives the " + m.shape + " at most 100000 vertices (>= " +
+             number(std::sqrt(area * 2 / (std::sqrt(3.0) * max_scene_vertices))) + " m)");
   try {
     if (m.shape == "disk") return drape::disk_mesh<double>(m.radius, m.edge_length);
     return drape::rectangle_with_hole_mesh<double>(m.size[0], m.size[1], {m.hole_centre[0], m.hole_centre[1]},
