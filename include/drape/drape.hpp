@@ -15,7 +15,7 @@
 #include "drape/platform/instruction_set.hpp"
 #include "drape/platform/vector_sqrt.hpp"
 
-// core: types, checks, option names, the parts of the cloth model
+// core: types, checks, option names, the parts of the cloth model, meshes and their generators
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/core/enum_names.hpp"
@@ -28,6 +28,8 @@
 #include "drape/core/state.hpp"
 #include "drape/core/force_term.hpp"
 #include "drape/core/placement.hpp"
+#include "drape/core/cloth_mesh.hpp"
+#include "drape/core/mesh_generators.hpp"
 
 // linalg: 3x3 block storage and the linear system solvers are handed
 #include "drape/linalg/block3.hpp"
