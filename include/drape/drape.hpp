@@ -55,7 +55,7 @@
 // model: the cloth composed of core's parts and contact's settings
 #include "drape/model/cloth.hpp"
 
-// physics: forces, their derivatives, the system assembly, diagnostics
+// physics: forces, their derivatives, the system assembly, diagnostics, drape measures
 #include "drape/physics/spring_kernel.hpp"
 #include "drape/physics/spring_jacobian.hpp"
 #include "drape/physics/spring_families.hpp"
@@ -66,6 +66,7 @@
 #include "drape/physics/aerodynamic_force.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/physics/drape_measures.hpp"
 
 // solvers: linear solvers and preconditioners (know nothing of cloth)
 #include "drape/solvers/solve_status.hpp"
