@@ -36,4 +36,21 @@ ClothMesh<S> irregular_patch(int n, S h, unsigned seed) {
   return mesh;
 }
 
+/// The same patch without jitter, every cell split along the same diagonal: the regular mesh
+/// irregular_patch() perturbs. Not a lattice either (it takes the mesh path, not the grid's).
+template <class S>
+ClothMesh<S> regular_patch(int n, S h) {
+  ClothMesh<S> mesh;
+  mesh.positions.resize(3, n * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) mesh.positions.col(j * n + i) = Vec3<S>(S(i) * h, S(0), S(j) * h);
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+      mesh.triangles.push_back({a, d, c});
+      mesh.triangles.push_back({a, c, b});
+    }
+  return mesh;
+}
+
 }  // namespace drape::test
