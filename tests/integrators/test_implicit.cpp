@@ -194,7 +194,7 @@ TEST_CASE("the default scene stays stable at dt = 1/60 s and 0.1 s, where RK2 bl
 }
 
 TEST_CASE("every Jacobian variant with every solver runs the default scene, both boundary conditions",
-          "[implicit][solvers]") {
+          "[implicit][solvers][long]") {
   for (BoundaryCondition bc : {BoundaryCondition::OneCorner, BoundaryCondition::TwoCorners}) {
     const Clothd cloth(default_scene(bc));
     State<double> reference;

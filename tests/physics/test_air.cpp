@@ -183,7 +183,7 @@ TEMPLATE_TEST_CASE("linear drag in a side wind: terminal velocity (w_x, -m g / c
   }
 }
 
-TEST_CASE("a flag in gusty wind stays stable with the implicit step at dt = 1/60", "[air][stability]") {
+TEST_CASE("a flag in gusty wind stays stable with the implicit step at dt = 1/60", "[air][stability][long]") {
   // The default cloth pinned along one edge (i = 0), wind along +x with gusts, aerodynamic drag and
   // lift: it must fly, not blow up, with the default (symmetric, SPD) system and with the Exact one.
   ClothSpecd spec;

@@ -101,7 +101,7 @@ std::pair<Matrix3X<double>, Matrix3X<double>> layer_on_held_triangle(
 }  // namespace
 
 TEMPLATE_TEST_CASE("self-collision: a cloth folded over itself falls onto its lower half and rests there",
-                   "[self-collision]", float, double) {
+                   "[self-collision][long]", float, double) {
   using S = TestType;
   for (IntegratorKind kind : all_integrators) {
     INFO(to_string(kind));
@@ -138,7 +138,7 @@ TEST_CASE("self-collision: without it the same fold passes through itself (the c
 }
 
 TEST_CASE("self-collision: a hanging cloth let fall onto a floor piles up in folds without passing through itself",
-          "[self-collision]") {
+          "[self-collision][long]") {
   for (IntegratorKind kind : all_integrators) {
     INFO(to_string(kind));
     ClothSpec<double> spec = folding_cloth<double>(11, 21);

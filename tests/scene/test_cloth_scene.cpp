@@ -131,7 +131,7 @@ TEMPLATE_TEST_CASE(
 }
 
 TEMPLATE_TEST_CASE("cloth scene: two cloths stacked on a floor; the upper pushes on the lower with its weight",
-                   "[scene]", float, double) {
+                   "[scene][long]", float, double) {
   using S = TestType;
   for (IntegratorKind kind : both_integrators) {
     INFO(to_string(kind));
@@ -168,7 +168,7 @@ TEMPLATE_TEST_CASE("cloth scene: two cloths stacked on a floor; the upper pushes
   }
 }
 
-TEST_CASE("cloth scene: two cloths dropped onto each other over a box never intersect", "[scene]") {
+TEST_CASE("cloth scene: two cloths dropped onto each other over a box never intersect", "[scene][long]") {
   for (IntegratorKind kind : both_integrators) {
     for (bool collide : {true, false}) {
       INFO(to_string(kind) << (collide ? " with" : " without") << " the scene's collisions");
