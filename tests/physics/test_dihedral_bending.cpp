@@ -570,7 +570,7 @@ TEST_CASE("dihedral bending: a square cloth sags the same meshed regularly or ir
   const double h = 0.6 / (n - 1), bending = 0.2;
   const double regular = settled_free_edge(test::regular_patch(n, h), n, bending);
   INFO("regular mesh: free edge at y = " << regular);
-  CHECK(regular < -0.02);  // it sags, as a plate of rigidity about 3 k would (0.026 m) ...
+  CHECK(regular < -0.02);  // it sags (a beam of rigidity 3 k: 0.026 m) ...
   CHECK(regular > -0.05);  // ... and bending carries the load
   double jittered_sum = 0;
   for (const unsigned seed : {1u, 2u, 3u}) {

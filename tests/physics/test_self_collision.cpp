@@ -17,6 +17,7 @@
 #include "collision/mesh_checks.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/make_integrator.hpp"
+#include "model/mesh_helpers.hpp"
 #include "test_common.hpp"
 
 using namespace drape;
@@ -56,7 +57,7 @@ struct RunCheck {
 
 template <class S>
 RunCheck run_checked(Integrator<S>& integrator, State<S>& state, double seconds) {
-  const auto triangles = integrator.cloth().grid().triangles();
+  const std::vector<std::array<int, 3>>& triangles = integrator.cloth().triangles();
   RunCheck out;
   const int steps = int(std::lround(seconds / double(integrator.dt())));
   for (int k = 0; k < steps; ++k) {
@@ -310,4 +311,70 @@ TEST_CASE("self-collision: bad settings name the parameter", "[self-collision][v
   CHECK_THAT(message([](auto& s) { s.self_collision.separation_rate = 0; }), Catch::Contains("self separation rate"));
   CHECK_THAT(message([](auto& s) { s.contact_thickness = 0; }), Catch::Contains("contact thickness"));
   CHECK(message([](auto&) {}).empty());
+}
+
+namespace {
+
+/// An irregular 9 x 17-node cloth (a jittered lattice 0.1 m apart cut by random diagonals), free,
+/// self-collision on, laid along `path` as folding_cloth() is by laid_along().
+ClothSpec<double> folding_mesh_cloth(State<double>& start, const std::function<Eigen::Vector2d(double)>& path) {
+  const ClothMesh<double> square = test::irregular_patch(17, 0.1, 4);
+  ClothMesh<double> mesh;  // its first 9 columns
+  std::vector<int> index(std::size_t(17 * 17), -1);
+  mesh.positions.resize(3, 9 * 17);
+  for (int k = 0, n = 0; k < 17 * 17; ++k)
+    if (k % 17 < 9) {
+      index[std::size_t(k)] = n;
+      mesh.positions.col(n++) = square.positions.col(k);
+    }
+  for (const std::array<int, 3>& t : square.triangles)
+    if (index[std::size_t(t[0])] >= 0 && index[std::size_t(t[1])] >= 0 && index[std::size_t(t[2])] >= 0)
+      mesh.triangles.push_back({index[std::size_t(t[0])], index[std::size_t(t[1])], index[std::size_t(t[2])]});
+  ClothSpec<double> spec = folding_cloth<double>(9, 17);
+  spec.mesh = mesh;
+  spec.areal_density = 1.0;  // 0.01 kg per 0.1 m x 0.1 m cell, as folding_cloth()
+  const Clothd cloth(spec);
+  start = cloth.initial_state();
+  for (int k = 0; k < cloth.node_count(); ++k) {
+    const Eigen::Vector2d zy = path(mesh.positions(2, k));
+    start.positions.col(k) = Vec3<double>(mesh.positions(0, k), zy.y(), zy.x());
+  }
+  return spec;
+}
+
+}  // namespace
+
+TEST_CASE("self-collision on an irregular mesh cloth: folded over itself, it rests on its lower half",
+          "[self-collision][mesh][long]") {
+  for (const bool enabled : {true, false}) {
+    for (IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Symplectic}) {
+      if (!enabled && kind != IntegratorKind::Implicit) continue;
+      INFO(to_string(kind) << (enabled ? "" : ", self-collision off"));
+      State<double> state;
+      ClothSpec<double> spec = folding_mesh_cloth(state, test::folded_path(0.01, 0.9, 0.15));
+      spec.self_collision.enabled = enabled;
+      spec.colliders.push_back(Colliderd::plane(Vec3<double>::Zero(), Vec3<double>(0, 1, 0)).set_friction(0.3, 0.3));
+      const Clothd cloth(spec);
+      REQUIRE(!cloth.is_grid());
+      REQUIRE(!test::first_intersection(state.positions, cloth.triangles()).found);
+      auto stepper = integrator(cloth, kind);
+      const RunCheck check = run_checked(*stepper, state, 1.5);
+      if (!enabled) {
+        CHECK(check.first_intersecting_step >= 0);  // the check can fail
+        continue;
+      }
+      CHECK(check.first_intersecting_step == -1);
+      CHECK(check.unresolved == 0);
+      CHECK(check.closest >= 0.01 * 2 * 0.01);
+      // The upper layer's end (the last row) lies on the lower one, a layer distance above it.
+      double top = 0;
+      int count = 0;
+      for (int k = 0; k < cloth.node_count(); ++k)
+        if (spec.mesh->positions(2, k) > 1.55) {
+          top += state.positions(1, k);
+          ++count;
+        }
+      CHECK(top / count == Approx(3 * 0.01).margin(0.005));
+    }
+  }
 }
