@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "drape/core/mesh_generators.hpp"
 #include "drape/core/pin_set.hpp"
 #include "drape/scene_file/build_scene.hpp"
 #include "drape/scene_file/command_line.hpp"
@@ -344,5 +345,58 @@ TEST_CASE("PinSchedule: a [[moving-pins]] node is pinned from its start and rele
     INFO("step " << step << ", t = " << t);
     REQUIRE(pins.is_pinned(node) == (step >= 5 && step < 10));
   }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mesh keys: generated and OBJ meshes, density, pins by group and box, bending; bad values named",
+          "[scene_file][mesh]") {
+  const fs::path dir = fresh_dir("mesh");
+  using Catch::Contains;
+  // A disk of 0.3 m radius, 5 cm edges: the library's disk_mesh().
+  Settings s = read_text(dir, "shape = \"disk\"\nradius = 0.3\nedge-length = 0.05\ndensity = 0.25\n"
+                              "pin-groups = [\"boundary\"]\nbending = 1e-4\nbending-kd = 1e-6\n");
+  REQUIRE(s.cloth.mesh);
+  const drape::ClothMesh<double>& disk = *s.cloth.mesh;
+  CHECK(disk.positions == drape::disk_mesh(0.3, 0.05).positions);
+  CHECK(disk.positions.colwise().norm().maxCoeff() == Approx(0.3));
+  REQUIRE(s.cloth.areal_density);
+  CHECK(*s.cloth.areal_density == 0.25);
+  REQUIRE(s.cloth.pinned_nodes);
+  CHECK(s.cloth.pinned_nodes->size() == disk.groups.at("boundary").size());
+  const drape::Clothd cloth = make_cloth(s, s.cloth);
+  CHECK(!cloth.is_grid());
+  CHECK(cloth.masses().sum() == Approx(0.25 * M_PI * 0.09).epsilon(0.02));  // the polygon's area
+  REQUIRE(bending_term(s));
+  CHECK(bending_term(s)->name() == "dihedral bending");
+
+  // A rectangle with a hole pinned by a box around its left edge (x = 0 at the start).
+  s = read_text(dir, "shape = \"rectangle-with-hole\"\nsize = [1.0, 0.6]\nhole-radius = 0.1\n"
+                     "hole-centre = [0.5, 0.3]\nedge-length = 0.05\npin-box = [-0.01, -0.01, -0.01, 0.01, 0.01, 0.61]\n");
+  REQUIRE(s.cloth.mesh);
+  REQUIRE(s.cloth.pinned_nodes);
+  CHECK(s.cloth.pinned_nodes->size() == s.cloth.mesh->groups.at("left").size());
+
+  // An OBJ file next to the scene file, scaled from centimetres.
+  std::ofstream(dir / "square.obj") << "v 0 0 0\nv 10 0 0\nv 10 0 10\nv 0 0 10\ng edge\nf 1 2 3 4\n";
+  s = read_text(dir, "mesh = \"square.obj\"\nscale = 0.01\npin-groups = [\"edge\"]\n");
+  REQUIRE(s.cloth.mesh);
+  CHECK(s.cloth.mesh->quads.size() == 1);
+  CHECK(s.cloth.mesh->positions.col(2).isApprox(drape::Vec3<double>(0.1, 0, 0.1)));
+
+  // Bad values name the key and what is allowed.
+  CHECK_THAT(error_of(dir, "shape = \"hexagon\"\n"), Contains("shape") && Contains("grid | disk | rectangle-with-hole"));
+  CHECK_THAT(error_of(dir, "shape = \"disk\"\nradius = 0.3\nedge-length = 0.0005\n"),
+             Contains("edge-length") && Contains("at most 100000 vertices"));
+  CHECK(error_of(dir, "shape = \"disk\"\nradius = 0.3\nedge-length = 0.004\n").empty());  // 20k vertices
+  CHECK_THAT(error_of(dir, "mesh = \"square.obj\"\nshape = \"disk\"\n"), Contains("shape") && Contains("with --mesh"));
+  CHECK_THAT(error_of(dir, "mesh = \"missing.obj\"\n"), Contains("missing.obj"));
+  CHECK_THAT(error_of(dir, "mesh = \"square.obj\"\npin-groups = [\"hem\"]\n"),
+             Contains("pin-groups") && Contains("'hem'") && Contains("a group of the mesh: edge"));
+  CHECK_THAT(error_of(dir, "shape = \"disk\"\npin-box = [5.0, 5.0, 5.0, 6.0, 6.0, 6.0]\n"),
+             Contains("pin-box") && Contains("holds no node"));
+  CHECK_THAT(error_of(dir, "shape = \"disk\"\npin-box = [1.0, 0.0, 0.0, 0.0, 1.0, 1.0]\n"), Contains("pin-box"));
+  CHECK_THAT(error_of(dir, "mesh = \"square.obj\"\nscale = -1.0\n"), Contains("scale") && Contains("> 0"));
+  CHECK_THAT(error_of(dir, "shape = \"disk\"\ndensity = -0.2\n"), Contains("density") && Contains(">= 0"));
+  CHECK_THAT(error_of(dir, "shape = \"disk\"\nbending = -1.0\n"), Contains("bending") && Contains(">= 0"));
   fs::remove_all(dir);
 }
