@@ -679,6 +679,8 @@ def main():
             "build/bench/bench/drape_memory 33 65 129 257                    # heap bytes per node",
             "build/bench/bench/drape_preconditioner_ab 33 1 41 60            # multigrid against multigrid-float",
             "build/bench/bench/drape_refinement                               # CG iterations against the grid size",
+            "build/bench/bench/drape_amg_cost                                 # each preconditioner's set-up and solve (docs/amg.md)",
+            "build/bench/bench/drape_mesh_step                                # disk meshes against grids (docs/mesh.md)",
             "```", "", "[performance.md](performance.md) explains the figures and gives the command behind each of its own.", ""]
     open(args.markdown, "w").write("\n".join(out))
     if args.plot and not args.keep_plot:
