@@ -11,6 +11,7 @@
 #include "drape/physics/dihedral_bending.hpp"
 #include "drape/viewer/collider_mesh.hpp"
 #include "error_names.hpp"
+#include "resolve_mesh.hpp"
 
 namespace drape::scene_file {
 
@@ -86,7 +87,8 @@ std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::Cloth
   std::vector<drape::ClothSpecd> specs = {first};
   for (const ExtraCloth& c : s.extra_cloths) {
     drape::ClothSpecd spec = first;
-    spec.mesh.reset();  // a [[cloths]] table is a grid of its own
+    spec.mesh.reset();  // a [[cloths]] table has a grid or mesh of its own
+    spec.areal_density.reset();
     spec.nx = c.nx.value_or(first.nx);
     spec.ny = c.ny.value_or(first.ny);
     spec.spacing = c.spacing.value_or(first.spacing);
@@ -100,13 +102,19 @@ std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::Cloth
     spec.placement.position = detail::vec3(c.position);
     spec.placement.rotation_degrees = detail::vec3(c.rotation);
     const std::string where = "scene file '" + s.scene + "': " + c.key;
+    detail::apply_mesh_source(c.mesh, spec, [&where](const std::string& name) { return where + "." + name; });
     try {
       spec.validate();
-      spec.force_terms.clear();  // the air's terms are built for a grid: this cloth's own
-      if (s.air.active()) {
-        const drape::Grid<double> grid(spec.nx, spec.ny, spec.spacing, spec.node_mass);
-        spec.force_terms = drape::air_force_terms<double>(s.air, grid.triangles());
-      }
+      spec.force_terms.clear();  // the first cloth's terms act on its triangles: this cloth's own
+      const drape::ClothMesh<double> mesh =
+          spec.mesh ? *spec.mesh : drape::grid_mesh<double>(spec.nx, spec.ny, spec.spacing);
+      if (s.air.active())
+        spec.force_terms = drape::air_force_terms<double>(
+            s.air, spec.mesh ? mesh.all_triangles()
+                             : drape::Grid<double>(spec.nx, spec.ny, spec.spacing, spec.node_mass).triangles());
+      if (c.mesh.bending != 0 || c.mesh.bending_kd != 0)
+        spec.force_terms.push_back(
+            std::make_shared<drape::DihedralBending<double>>(mesh, c.mesh.bending, c.mesh.bending_kd));
       (void)drape::Clothd(spec);  // pins clear of the colliders
     } catch (const InvalidParameter& e) {
       const std::map<std::string, std::string> key_of = {{"nx", "nx"},

@@ -17,7 +17,7 @@ namespace drape::scene_file::detail {
 
 namespace {
 
-drape::ClothMesh<double> read_mesh_file(const MeshSource& m) {
+drape::ClothMesh<double> read_mesh_file(const MeshSource& m, const KeyName& key) {
 #if DRAPE_SCENE_FILE_HAS_MESH_IO
   drape::mesh_io::ObjOptions options;
   options.scale = m.scale;
@@ -25,12 +25,12 @@ drape::ClothMesh<double> read_mesh_file(const MeshSource& m) {
   try {
     return drape::mesh_io::read_obj<double>(m.file, options).mesh;
   } catch (const drape::mesh_io::ObjError& e) {
-    throw SettingsError("--mesh: " + std::string(e.what()));
+    throw SettingsError(key("mesh") + ": " + std::string(e.what()));
   } catch (const InvalidParameter& e) {
-    fail(e.parameter() == "ObjOptions::scale" ? "--scale" : "--mesh", e.value(), e.allowed());
+    fail(key(e.parameter() == "ObjOptions::scale" ? "scale" : "mesh"), e.value(), e.allowed());
   }
 #else
-  throw SettingsError("--mesh '" + m.file +
+  throw SettingsError(key("mesh") + " '" + m.file +
                       "': this build reads no OBJ files (it was built without tinyobjloader: "
                       "apt-get install libtinyobjloader-dev and rebuild)");
 #endif
@@ -40,12 +40,12 @@ drape::ClothMesh<double> read_mesh_file(const MeshSource& m) {
 /// take up to drape::max_generated_vertices through the API).
 constexpr double max_scene_vertices = 100'000;
 
-drape::ClothMesh<double> generated_mesh(const MeshSource& m) {
+drape::ClothMesh<double> generated_mesh(const MeshSource& m, const KeyName& key) {
   // Near-equilateral triangles of edge h: about 2 / (sqrt(3) h^2) vertices per m^2.
   const double area = m.shape == "disk" ? 3.14159265358979 * m.radius * m.radius : m.size[0] * m.size[1];
   const double h = m.edge_length;
   if (std::isfinite(area) && std::isfinite(h) && h > 0 && area * 2 / (std::sqrt(3.0) * h * h) > max_scene_vertices)
-    fail("--edge-length", number(h),
+    fail(key("edge-length"), number(h),
          "an edge length that gives the " + m.shape + " at most 100000 vertices (>= " +
              number(std::sqrt(area * 2 / (std::sqrt(3.0) * max_scene_vertices))) + " m)");
   try {
@@ -53,55 +53,54 @@ drape::ClothMesh<double> generated_mesh(const MeshSource& m) {
     return drape::rectangle_with_hole_mesh<double>(m.size[0], m.size[1], {m.hole_centre[0], m.hole_centre[1]},
                                                    m.hole_radius, m.edge_length);
   } catch (const InvalidParameter& e) {
-    throw SettingsError("--shape " + m.shape + ": " + e.what());
+    throw SettingsError(key("shape") + " " + m.shape + ": " + e.what());
   }
 }
 
 }  // namespace
 
-void resolve_mesh(Settings& s) {
-  const MeshSource& m = s.mesh;
+void apply_mesh_source(const MeshSource& m, drape::ClothSpecd& spec, const KeyName& key) {
   const std::vector<std::string> shapes = {"grid", "disk", "rectangle-with-hole"};
   if (std::find(shapes.begin(), shapes.end(), m.shape) == shapes.end())
-    fail("--shape", "'" + m.shape + "'", "grid | disk | rectangle-with-hole");
+    fail(key("shape"), "'" + m.shape + "'", "grid | disk | rectangle-with-hole");
   if (!m.file.empty() && m.shape != "grid")
-    fail("--shape", "'" + m.shape + "' with --mesh", "grid (the default) when --mesh gives the mesh");
-  if (!(std::isfinite(m.scale) && m.scale > 0)) fail("--scale", number(m.scale), "finite and > 0");
-  if (!(std::isfinite(m.density) && m.density >= 0)) fail("--density", number(m.density), "finite and >= 0 kg/m^2");
-  if (!(std::isfinite(m.bending) && m.bending >= 0)) fail("--bending", number(m.bending), "finite and >= 0 N m");
+    fail(key("shape"), "'" + m.shape + "' with a mesh file", "grid (the default) when a mesh file gives the mesh");
+  if (!(std::isfinite(m.scale) && m.scale > 0)) fail(key("scale"), number(m.scale), "finite and > 0");
+  if (!(std::isfinite(m.density) && m.density >= 0)) fail(key("density"), number(m.density), "finite and >= 0 kg/m^2");
+  if (!(std::isfinite(m.bending) && m.bending >= 0)) fail(key("bending"), number(m.bending), "finite and >= 0 N m");
   if (!(std::isfinite(m.bending_kd) && m.bending_kd >= 0))
-    fail("--bending-kd", number(m.bending_kd), "finite and >= 0 N m s");
+    fail(key("bending-kd"), number(m.bending_kd), "finite and >= 0 N m s");
   if (!m.pin_box.empty()) {
-    if (m.pin_box.size() != 6) fail("--pin-box", std::to_string(m.pin_box.size()) + " numbers", "6: X0 Y0 Z0 X1 Y1 Z1");
+    if (m.pin_box.size() != 6) fail(key("pin-box"), std::to_string(m.pin_box.size()) + " numbers", "6: X0 Y0 Z0 X1 Y1 Z1");
     for (int k = 0; k < 3; ++k)
       if (!(m.pin_box[std::size_t(k)] <= m.pin_box[std::size_t(k) + 3]))
-        fail("--pin-box", "a box with X0 > X1, Y0 > Y1 or Z0 > Z1 (or a non-finite corner)",
+        fail(key("pin-box"), "a box with X0 > X1, Y0 > Y1 or Z0 > Z1 (or a non-finite corner)",
              "finite corners X0 Y0 Z0 <= X1 Y1 Z1");
   }
-  if (m.density > 0) s.cloth.areal_density = m.density;
-  if (m.is_mesh()) s.cloth.mesh = m.file.empty() ? generated_mesh(m) : read_mesh_file(m);
+  if (m.density > 0) spec.areal_density = m.density;
+  if (m.is_mesh()) spec.mesh = m.file.empty() ? generated_mesh(m, key) : read_mesh_file(m, key);
   if (m.pin_groups.empty() && m.pin_box.empty()) return;
 
   // Pins by group and box join the pins by id (--pins); without --pins, the boundary preset's
   // corners only on a grid.
   const drape::ClothMesh<double> mesh =
-      s.cloth.mesh ? *s.cloth.mesh : drape::grid_mesh<double>(s.cloth.nx, s.cloth.ny, s.cloth.spacing);
-  std::vector<int> pinned = s.cloth.pinned_nodes ? *s.cloth.pinned_nodes : std::vector<int>{};
-  if (!s.cloth.pinned_nodes && !s.cloth.mesh) {
-    const drape::Grid<double> grid(s.cloth.nx, s.cloth.ny, s.cloth.spacing, s.cloth.node_mass);
-    pinned = drape::Pins::preset(s.cloth.boundary, grid).nodes();
+      spec.mesh ? *spec.mesh : drape::grid_mesh<double>(spec.nx, spec.ny, spec.spacing);
+  std::vector<int> pinned = spec.pinned_nodes ? *spec.pinned_nodes : std::vector<int>{};
+  if (!spec.pinned_nodes && !spec.mesh) {
+    const drape::Grid<double> grid(spec.nx, spec.ny, spec.spacing, spec.node_mass);
+    pinned = drape::Pins::preset(spec.boundary, grid).nodes();
   }
   for (const std::string& group : m.pin_groups) {
     const auto it = mesh.groups.find(group);
     if (it == mesh.groups.end()) {
       std::string names;
       for (const auto& [name, nodes] : mesh.groups) names += (names.empty() ? "" : ", ") + name;
-      fail("--pin-groups", "'" + group + "'", "a group of the mesh: " + (names.empty() ? "(it has none)" : names));
+      fail(key("pin-groups"), "'" + group + "'", "a group of the mesh: " + (names.empty() ? "(it has none)" : names));
     }
     pinned.insert(pinned.end(), it->second.begin(), it->second.end());
   }
   if (!m.pin_box.empty()) {
-    const drape::Matrix3X<double> start = s.cloth.placement.apply(mesh.positions);
+    const drape::Matrix3X<double> start = spec.placement.apply(mesh.positions);
     std::size_t inside = 0;
     for (Eigen::Index v = 0; v < start.cols(); ++v) {
       bool in = true;
@@ -112,9 +111,13 @@ void resolve_mesh(Settings& s) {
         ++inside;
       }
     }
-    if (inside == 0) fail("--pin-box", "a box that holds no node at the start", "a box around the nodes to pin");
+    if (inside == 0) fail(key("pin-box"), "a box that holds no node at the start", "a box around the nodes to pin");
   }
-  s.cloth.pinned_nodes = pinned;
+  spec.pinned_nodes = pinned;
+}
+
+void resolve_mesh(Settings& s) {
+  apply_mesh_source(s.mesh, s.cloth, [](const std::string& name) { return "--" + name; });
 }
 
 }  // namespace drape::scene_file::detail

@@ -3,8 +3,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <map>
+#include <utility>
 
 #include "error_names.hpp"
 #include "toml_values.hpp"
@@ -284,9 +286,11 @@ PinSpec pin_from_table(const toml::table& t, const std::string& key, const std::
 /// One [[cloths]] table (`key` is "cloths[k]"): checks its keys and reads its values; the values
 /// are checked when the cloth is built from the first one (cloth_specs(), from validate()).
 ExtraCloth cloth_from_table(const toml::table& t, const std::string& key, const std::string& file) {
-  static const std::vector<std::string> allowed = {"nx",       "ny",       "spacing",       "mass",          "pins",
-                                                   "position", "rotation", "structural-ks", "structural-kd", "shear-ks",
-                                                   "shear-kd", "bend-ks",  "bend-kd"};
+  static const std::vector<std::string> allowed = {
+      "nx",        "ny",          "spacing",     "mass",        "pins",        "position",     "rotation",
+      "structural-ks", "structural-kd", "shear-ks", "shear-kd", "bend-ks",  "bend-kd",      "mesh",
+      "shape",     "radius",      "size",        "hole-radius", "hole-centre", "edge-length",  "scale",
+      "rest-from-uv", "density",  "pin-groups",  "pin-box",     "bending",     "bending-kd"};
   check_keys(t, key, file, allowed,
              "a cloth has the keys " + joined(allowed) + " (the rest it takes from the first cloth)");
   ExtraCloth c;
@@ -304,6 +308,33 @@ ExtraCloth cloth_from_table(const toml::table& t, const std::string& key, const 
     c.position = from_toml<std::array<double, 3>>(*n, key + ".position", file);
   if (const toml::node* n = t.get("rotation"))
     c.rotation = from_toml<std::array<double, 3>>(*n, key + ".rotation", file);
+  // Its mesh, as the first cloth's keys of the same names (MeshSource); the OBJ file relative to
+  // the scene file's folder.
+  MeshSource& m = c.mesh;
+  if (const toml::node* n = t.get("mesh")) {
+    const std::filesystem::path path = from_toml<std::string>(*n, key + ".mesh", file);
+    m.file = (path.is_absolute() ? path : std::filesystem::path(file).parent_path() / path).string();
+  }
+  const auto pair = [&](const char* name, std::array<double, 2>& out) {
+    if (const toml::node* n = t.get(name)) {
+      const std::vector<double> v = from_toml<std::vector<double>>(*n, key + "." + name, file);
+      if (v.size() != 2) bad_key(file, key + "." + name, "must be an array of 2 numbers");
+      out = {v[0], v[1]};
+    }
+  };
+  if (const toml::node* n = t.get("shape")) m.shape = from_toml<std::string>(*n, key + ".shape", file);
+  pair("size", m.size);
+  pair("hole-centre", m.hole_centre);
+  const std::pair<const char*, double*> numbers[] = {{"radius", &m.radius},       {"hole-radius", &m.hole_radius},
+                                                     {"edge-length", &m.edge_length}, {"scale", &m.scale},
+                                                     {"density", &m.density},     {"bending", &m.bending},
+                                                     {"bending-kd", &m.bending_kd}};
+  for (const auto& [name, value] : numbers)
+    if (const toml::node* n = t.get(name)) *value = from_toml<double>(*n, key + "." + name, file);
+  if (const toml::node* n = t.get("rest-from-uv")) m.rest_from_uv = from_toml<bool>(*n, key + ".rest-from-uv", file);
+  if (const toml::node* n = t.get("pin-groups"))
+    m.pin_groups = from_toml<std::vector<std::string>>(*n, key + ".pin-groups", file);
+  if (const toml::node* n = t.get("pin-box")) m.pin_box = from_toml<std::vector<double>>(*n, key + ".pin-box", file);
   return c;
 }
 

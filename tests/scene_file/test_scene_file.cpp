@@ -388,7 +388,7 @@ TEST_CASE("mesh keys: generated and OBJ meshes, density, pins by group and box, 
   CHECK_THAT(error_of(dir, "shape = \"disk\"\nradius = 0.3\nedge-length = 0.0005\n"),
              Contains("edge-length") && Contains("at most 100000 vertices"));
   CHECK(error_of(dir, "shape = \"disk\"\nradius = 0.3\nedge-length = 0.004\n").empty());  // 20k vertices
-  CHECK_THAT(error_of(dir, "mesh = \"square.obj\"\nshape = \"disk\"\n"), Contains("shape") && Contains("with --mesh"));
+  CHECK_THAT(error_of(dir, "mesh = \"square.obj\"\nshape = \"disk\"\n"), Contains("shape") && Contains("with a mesh file"));
   CHECK_THAT(error_of(dir, "mesh = \"missing.obj\"\n"), Contains("missing.obj"));
   CHECK_THAT(error_of(dir, "mesh = \"square.obj\"\npin-groups = [\"hem\"]\n"),
              Contains("pin-groups") && Contains("'hem'") && Contains("a group of the mesh: edge"));
@@ -398,5 +398,51 @@ TEST_CASE("mesh keys: generated and OBJ meshes, density, pins by group and box, 
   CHECK_THAT(error_of(dir, "mesh = \"square.obj\"\nscale = -1.0\n"), Contains("scale") && Contains("> 0"));
   CHECK_THAT(error_of(dir, "shape = \"disk\"\ndensity = -0.2\n"), Contains("density") && Contains(">= 0"));
   CHECK_THAT(error_of(dir, "shape = \"disk\"\nbending = -1.0\n"), Contains("bending") && Contains(">= 0"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("[[cloths]] with mesh keys: a disk and an OBJ cloth beside the grid, errors named by table and key",
+          "[scene_file][mesh][cloths]") {
+  const fs::path dir = fresh_dir("cloths_mesh");
+  using Catch::Contains;
+  std::ofstream(dir / "square.obj") << "v 0 0 0\nv 10 0 0\nv 10 0 10\nv 0 0 10\ng edge\nf 1 2 3 4\n";
+  const std::string first = "nx = 5\nny = 5\nself-collision = true\n";
+  const Settings s = read_text(dir, first +
+                                        "[[cloths]]\nshape = \"disk\"\nradius = 0.2\nedge-length = 0.05\ndensity = 0.3\n"
+                                        "pin-groups = [\"boundary\"]\nbending = 1e-4\nposition = [0.0, 1.0, 0.0]\n"
+                                        "[[cloths]]\nmesh = \"square.obj\"\nscale = 0.01\nposition = [0.0, 0.5, 0.0]\n"
+                                        "pin-box = [-0.01, 0.49, -0.01, 0.01, 0.51, 0.2]\n");
+  const std::vector<drape::ClothSpecd> specs = cloth_specs(s, s.cloth);
+  REQUIRE(specs.size() == 3);
+  CHECK(!specs[0].mesh);
+  const auto has_bending = [](const drape::ClothSpecd& spec) {
+    for (const auto& term : spec.force_terms)
+      if (term->name() == "dihedral bending") return true;
+    return false;
+  };
+  REQUIRE(specs[1].mesh);
+  CHECK(specs[1].mesh->positions == drape::disk_mesh(0.2, 0.05).positions);
+  REQUIRE(specs[1].areal_density);
+  CHECK(*specs[1].areal_density == 0.3);
+  REQUIRE(specs[1].pinned_nodes);
+  CHECK(specs[1].pinned_nodes->size() == specs[1].mesh->groups.at("boundary").size());
+  CHECK(has_bending(specs[1]));
+  REQUIRE(specs[2].mesh);
+  CHECK(specs[2].mesh->quads.size() == 1);
+  CHECK(!specs[2].areal_density);
+  CHECK(!has_bending(specs[2]));
+  CHECK(specs[2].pinned_nodes == std::vector<int>{0, 3});  // the two vertices at x = 0 (the box's edge)
+  for (const drape::ClothSpecd& spec : specs) (void)drape::Clothd(spec);
+
+  CHECK_THAT(error_of(dir, first + "[[cloths]]\nshape = \"disk\"\nedge-length = 0.0001\n"),
+             Contains("cloths[0].edge-length") && Contains("at most 100000 vertices"));
+  CHECK_THAT(error_of(dir, first + "[[cloths]]\nmesh = \"square.obj\"\npin-groups = [\"hem\"]\n"),
+             Contains("cloths[0].pin-groups") && Contains("'hem'"));
+  CHECK_THAT(error_of(dir, first + "[[cloths]]\nshape = \"hexagon\"\n"),
+             Contains("cloths[0].shape") && Contains("grid | disk | rectangle-with-hole"));
+  CHECK_THAT(error_of(dir, first + "[[cloths]]\nshape = \"rectangle-with-hole\"\nsize = [1.0]\n"),
+             Contains("cloths[0].size") && Contains("2 numbers"));
+  CHECK_THAT(error_of(dir, first + "[[cloths]]\nmesh = \"none.obj\"\n"), Contains("cloths[0].mesh") && Contains("none.obj"));
+  CHECK_THAT(error_of(dir, first + "[[cloths]]\nshape = \"disk\"\nbending = -2.0\n"), Contains("cloths[0].bending"));
   fs::remove_all(dir);
 }

@@ -106,6 +106,9 @@ struct ExtraCloth {
   std::vector<int> pins;                    ///< node ids, j*nx + i
   std::array<double, 3> position{0, 0, 0};  ///< m: where its node 0 starts
   std::array<double, 3> rotation{0, 0, 0};  ///< degrees about x, then y, then z
+  /// Its mesh when it is not the nx x ny grid, density, pins by group and box, bending: the first
+  /// cloth's keys of the same names (mesh_source.hpp).
+  MeshSource mesh;
 };
 
 struct Settings {
