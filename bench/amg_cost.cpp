@@ -26,21 +26,10 @@
 #include "drape/physics/jacobian_assembler.hpp"
 #include "drape/solvers/make_preconditioner.hpp"
 #include "drape/solvers/pcg.hpp"
+#include "refined_cloth.hpp"
 #include "tool_text.hpp"
 
 namespace {
-
-/// The default cloth's material at n x n nodes over the same side (drape_refinement's scaling with
-/// bend exponent 0).
-drape::ClothSpec<double> scaled_spec(int n) {
-  const drape::ClothSpec<double> base;
-  drape::ClothSpec<double> spec = base;
-  const double side = (base.nx - 1) * base.spacing;
-  spec.nx = spec.ny = n;
-  spec.spacing = side / (n - 1);
-  spec.node_mass = base.node_mass * (spec.spacing / base.spacing) * (spec.spacing / base.spacing);
-  return spec;
-}
 
 /// Median wall time of `repetitions` calls of `body`, in seconds.
 double median_seconds(int repetitions, const std::function<void()>& body) {
@@ -91,7 +80,7 @@ int main(int argc, char** argv) {
       "|---|---|---|---|---|---|---|---|\n");
   std::fflush(stdout);
   for (const int n : sizes) {
-    const drape::Cloth<double> cloth(scaled_spec(n));
+    const drape::Cloth<double> cloth(drape_bench::refined_default_spec(n));
     drape::ImplicitOptions options;
     options.dt = 1.0 / 60;
     options.threads = threads;

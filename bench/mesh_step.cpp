@@ -29,6 +29,7 @@
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/symplectic_euler.hpp"
 #include "drape/model/cloth.hpp"
+#include "refined_cloth.hpp"
 #include "tool_text.hpp"
 
 namespace {
@@ -45,17 +46,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
-}
-
-/// The default cloth's material on an n x n grid over its 3.2 m square.
-drape::ClothSpec<double> grid_spec(int n) {
-  const drape::ClothSpec<double> base;
-  drape::ClothSpec<double> spec = base;
-  const double side = (base.nx - 1) * base.spacing;
-  spec.nx = spec.ny = n;
-  spec.spacing = side / (n - 1);
-  spec.node_mass = base.node_mass * (spec.spacing / base.spacing) * (spec.spacing / base.spacing);
-  return spec;
 }
 
 /// A disk of the grid's area with about n x n vertices, the same material by area.
@@ -155,7 +145,7 @@ int main(int argc, char** argv) {
               "(multigrid-float, amg) | first step with set-up disk / grid | symplectic step disk / grid (ratio) "
               "|\n|---|---|---|---|---|\n");
   for (const int n : o.sizes) {
-    const drape::Cloth<double> grid(grid_spec(n)), disk(disk_spec(n));
+    const drape::Cloth<double> grid(drape_bench::refined_default_spec(n)), disk(disk_spec(n));
     const ImplicitRun d = implicit_run(disk, o, drape::PreconditionerKind::MultigridFloat);
     const ImplicitRun g = implicit_run(grid, o, drape::PreconditionerKind::MultigridFloat);
     const ImplicitRun ga = implicit_run(grid, o, drape::PreconditionerKind::AlgebraicMultigrid);

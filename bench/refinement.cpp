@@ -35,6 +35,7 @@
 #include "drape/model/cloth.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/solvers/pcg.hpp"
+#include "refined_cloth.hpp"
 #include "tool_text.hpp"
 
 namespace {
@@ -47,21 +48,6 @@ struct Options {
   bool trace = false;  // print every step's iterations
   double dt = 1.0 / 60;
 };
-
-/// The default cloth's material at n x n nodes over the same side.
-drape::ClothSpec<double> scaled_spec(int n, double bend_exponent) {
-  const drape::ClothSpec<double> base;
-  drape::ClothSpec<double> spec = base;
-  const double side = (base.nx - 1) * base.spacing;
-  spec.nx = spec.ny = n;
-  spec.spacing = side / (n - 1);
-  const double ratio = spec.spacing / base.spacing;
-  spec.node_mass = base.node_mass * ratio * ratio;
-  const double bend = std::pow(ratio, -bend_exponent);
-  spec.springs.bend.stiffness = base.springs.bend.stiffness * bend;
-  spec.springs.bend.damping = base.springs.bend.damping * bend;
-  return spec;
-}
 
 /// Mean relative stretch (L - l) / l of the structural springs: unlike the largest one, which sits
 /// at a pin (a point load, whose strain grows as the grid refines), a mean over the cloth converges.
@@ -229,7 +215,7 @@ int main(int argc, char** argv) {
     o.preconditioners = {drape::PreconditionerKind::Multigrid, drape::PreconditionerKind::BlockJacobi};
 
   try {
-    for (const int n : o.sizes) scaled_spec(n, o.bend_exponent).validate();  // before any output
+    for (const int n : o.sizes) drape_bench::refined_default_spec(n, o.bend_exponent).validate();  // before any output
     const drape::ClothSpec<double> base;
     const double side = (base.nx - 1) * base.spacing;
     std::printf(
@@ -245,7 +231,7 @@ int main(int argc, char** argv) {
         "| n x n | nodes | spacing | node mass | structural ks, kd | shear ks, kd | bend ks, kd | "
         "ks dt^2 / m (structural) |\n|---|---|---|---|---|---|---|---|\n");
     for (const int n : o.sizes) {
-      const drape::ClothSpec<double> spec = scaled_spec(n, o.bend_exponent);
+      const drape::ClothSpec<double> spec = drape_bench::refined_default_spec(n, o.bend_exponent);
       const auto& k = spec.springs;
       std::printf("| %d | %d | %.4g m | %.4g g | %g, %g | %g, %g | %.4g, %.4g | %.4g |\n", n, n * n, spec.spacing,
                   spec.node_mass * 1e3, k.structural.stiffness, k.structural.damping, k.shear.stiffness,
@@ -267,7 +253,7 @@ int main(int argc, char** argv) {
     // The free corner of the previous size, per preconditioner (NaN before the first).
     std::vector<drape::Vec3<double>> last_corner(o.preconditioners.size(), drape::Vec3<double>::Constant(std::nan("")));
     for (const int n : o.sizes) {
-      const drape::Cloth<double> cloth(scaled_spec(n, o.bend_exponent));
+      const drape::Cloth<double> cloth(drape_bench::refined_default_spec(n, o.bend_exponent));
       for (std::size_t p = 0; p < o.preconditioners.size(); ++p) {
         const drape::PreconditionerKind kind = o.preconditioners[p];
         const Run r = run(cloth, kind, o);
