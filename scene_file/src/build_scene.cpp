@@ -83,6 +83,16 @@ int pin_node(const Settings& s, const PinSpec& pin) {
   return pin.id;
 }
 
+namespace {
+
+/// The dihedral bending term of `m` on `mesh`; none when its stiffness and damping are 0.
+std::shared_ptr<const drape::ForceTerm<double>> dihedral_term(const MeshSource& m, const drape::ClothMesh<double>& mesh) {
+  if (m.bending == 0 && m.bending_kd == 0) return nullptr;
+  return std::make_shared<drape::DihedralBending<double>>(mesh, m.bending, m.bending_kd);
+}
+
+}  // namespace
+
 std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::ClothSpecd& first) {
   std::vector<drape::ClothSpecd> specs = {first};
   for (const ExtraCloth& c : s.extra_cloths) {
@@ -108,13 +118,8 @@ std::vector<drape::ClothSpecd> cloth_specs(const Settings& s, const drape::Cloth
       spec.force_terms.clear();  // the first cloth's terms act on its triangles: this cloth's own
       const drape::ClothMesh<double> mesh =
           spec.mesh ? *spec.mesh : drape::grid_mesh<double>(spec.nx, spec.ny, spec.spacing);
-      if (s.air.active())
-        spec.force_terms = drape::air_force_terms<double>(
-            s.air, spec.mesh ? mesh.all_triangles()
-                             : drape::Grid<double>(spec.nx, spec.ny, spec.spacing, spec.node_mass).triangles());
-      if (c.mesh.bending != 0 || c.mesh.bending_kd != 0)
-        spec.force_terms.push_back(
-            std::make_shared<drape::DihedralBending<double>>(mesh, c.mesh.bending, c.mesh.bending_kd));
+      if (s.air.active()) spec.force_terms = drape::air_force_terms<double>(s.air, mesh.all_triangles());
+      if (auto bending = dihedral_term(c.mesh, mesh)) spec.force_terms.push_back(std::move(bending));
       (void)drape::Clothd(spec);  // pins clear of the colliders
     } catch (const InvalidParameter& e) {
       const std::map<std::string, std::string> key_of = {{"nx", "nx"},
@@ -152,8 +157,7 @@ std::vector<std::shared_ptr<const drape::ForceTerm<double>>> air_force_terms(con
 }
 
 std::shared_ptr<const drape::ForceTerm<double>> bending_term(const Settings& s) {
-  if (s.mesh.bending == 0 && s.mesh.bending_kd == 0) return nullptr;
-  return std::make_shared<drape::DihedralBending<double>>(first_mesh(s), s.mesh.bending, s.mesh.bending_kd);
+  return dihedral_term(s.mesh, first_mesh(s));
 }
 
 double run_length(const Settings& s) {
