@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
-#include <filesystem>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -282,8 +281,7 @@ void bind_mesh(Bindings& bind, Settings& s) {
                                             "folder); its triangles and quads, groups, and vt with --rest-from-uv");
   file->group(mesh);
   bind.keyed("mesh", file, [&m](const toml::node& n, const std::string& scene) {
-    const std::filesystem::path path = from_toml<std::string>(n, "mesh", scene);
-    m.file = (path.is_absolute() ? path : std::filesystem::path(scene).parent_path() / path).string();
+    m.file = scene_relative(from_toml<std::string>(n, "mesh", scene), scene);
   });
   bind.value("shape", m.shape, "grid (nx, ny, spacing) | disk (--radius) | rectangle-with-hole (--size, --hole-*)",
              mesh);

@@ -3,7 +3,6 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <functional>
 #include <map>
 #include <utility>
@@ -311,10 +310,7 @@ ExtraCloth cloth_from_table(const toml::table& t, const std::string& key, const 
   // Its mesh, as the first cloth's keys of the same names (MeshSource); the OBJ file relative to
   // the scene file's folder.
   MeshSource& m = c.mesh;
-  if (const toml::node* n = t.get("mesh")) {
-    const std::filesystem::path path = from_toml<std::string>(*n, key + ".mesh", file);
-    m.file = (path.is_absolute() ? path : std::filesystem::path(file).parent_path() / path).string();
-  }
+  if (const toml::node* n = t.get("mesh")) m.file = scene_relative(from_toml<std::string>(*n, key + ".mesh", file), file);
   const auto pair = [&](const char* name, std::array<double, 2>& out) {
     if (const toml::node* n = t.get(name)) {
       const std::vector<double> v = from_toml<std::vector<double>>(*n, key + "." + name, file);

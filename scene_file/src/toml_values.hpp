@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -17,6 +18,12 @@ namespace drape::scene_file::detail {
 /// \throws SettingsError "scene file '`file`': key '`key`' `what`".
 [[noreturn]] inline void bad_key(const std::string& file, const std::string& key, const std::string& what) {
   throw SettingsError("scene file '" + file + "': key '" + key + "' " + what);
+}
+
+/// A file named in the scene file `scene`: as given when absolute, else relative to the scene
+/// file's folder.
+inline std::string scene_relative(const std::filesystem::path& path, const std::string& scene) {
+  return (path.is_absolute() ? path : std::filesystem::path(scene).parent_path() / path).string();
 }
 
 /// The value of `n` as a T: double, int, bool, std::uint64_t, std::string, std::vector<double>,
