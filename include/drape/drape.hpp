@@ -30,8 +30,7 @@
 #include "drape/core/state.hpp"
 #include "drape/core/force_term.hpp"
 #include "drape/core/placement.hpp"
-#include "drape/core/cloth_mesh.hpp"
-#include "drape/core/mesh_generators.hpp"
+#include "drape/core/solid_generators.hpp"
 
 // linalg: 3x3 block storage and the linear system solvers are handed
 #include "drape/linalg/block3.hpp"
@@ -42,11 +41,14 @@
 #include "drape/linalg/linear_system.hpp"
 #include "drape/linalg/filtered_system.hpp"
 
-// collision: cloth-cloth geometry (closest points, continuous tests, broad phase)
+// collision: cloth-cloth and cloth-mesh geometry (closest points, continuous tests, the tree, a
+// mesh's signed distance, still and deforming)
 #include "drape/collision/primitive_distance.hpp"
 #include "drape/collision/continuous_collision.hpp"
 #include "drape/collision/mesh_topology.hpp"
 #include "drape/collision/bounding_volume_hierarchy.hpp"
+#include "drape/collision/mesh_distance.hpp"
+#include "drape/collision/mesh_sweep.hpp"
 
 // contact: colliders and self-collision, their settings and the handlers that resolve them
 #include "drape/contact/collider.hpp"

@@ -251,7 +251,7 @@ void bind_settings(nb::module_& m) {
 void bind_collider(nb::module_& m) {
   using Collider = drape::Colliderd;
   nb::class_<Collider>(m, "Collider",
-                       "A rigid shape the cloth cannot enter (plane, sphere, capsule, box, cylinder), static or moving "
+                       "A rigid shape the cloth cannot enter (plane, sphere, capsule, box, cylinder, triangle mesh), static or moving "
                        "with constant velocities, with Coulomb friction (docs/contact.md).")
       .def_static(
           "plane", [](const Vector& point, const Vector& normal) { return Collider::plane(vec3(point), vec3(normal)); },
@@ -280,6 +280,24 @@ void bind_collider(nb::module_& m) {
           "center"_a, "radius"_a, "half_height"_a, "rotation"_a = nb::none(), "rounding"_a = 0.0,
           "A cylinder about its local y axis from -half_height to half_height; `rotation` a 3x3 rotation matrix "
           "(rows), `rounding` the radius of its two rims.")
+      .def_static(
+          "mesh",
+          [](const NodeInput& vertices, const TriangleInput& triangles, const Vector& center,
+             std::optional<std::array<Vector, 3>> rotation) {
+            return Collider::mesh(mesh_of(vertices, triangles, std::nullopt), vec3(center), rotation_matrix(rotation));
+          },
+          "vertices"_a, "triangles"_a, "center"_a = Vector{0, 0, 0}, "rotation"_a = nb::none(),
+          "The solid a closed triangle mesh bounds: vertices (n, 3) in m in its own frame, triangles (m, 3) of "
+          "vertex ids counter-clockwise seen from outside, placed at `center` turned by `rotation` (3x3, rows). "
+          "An open mesh is allowed (its front side is outside). Raises InvalidParameter naming 'collider mesh' "
+          "and the element (docs/contact.md).")
+      .def_static(
+          "from_obj",
+          [](const std::string& path, double scale, const Vector& center, std::optional<std::array<Vector, 3>> rotation) {
+            return Collider::mesh(read_obj_mesh(path, scale, false), vec3(center), rotation_matrix(rotation));
+          },
+          "path"_a, "scale"_a = 1.0, "center"_a = Vector{0, 0, 0}, "rotation"_a = nb::none(),
+          "A mesh collider of an OBJ file (triangles and quads; `scale` m per file unit), as mesh().")
       .def(
           "set_friction",
           [](Collider& c, double static_coefficient, std::optional<double> kinetic_coefficient) -> Collider& {
@@ -297,7 +315,7 @@ void bind_collider(nb::module_& m) {
           "the collider.")
       .def_prop_ro(
           "kind", [](const Collider& c) { return std::string(drape::to_string(c.kind())); },
-          "'plane', 'sphere', 'capsule', 'box' or 'cylinder'.")
+          "'plane', 'sphere', 'capsule', 'box', 'cylinder' or 'mesh'.")
       .def_prop_ro("radius", &Collider::radius, "Sphere, capsule and cylinder radius (0 otherwise).")
       .def_prop_ro("half_length", &Collider::half_length, "Capsule half length (0 otherwise).")
       .def_prop_ro(

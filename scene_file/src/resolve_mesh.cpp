@@ -15,25 +15,32 @@
 
 namespace drape::scene_file::detail {
 
-namespace {
-
-drape::ClothMesh<double> read_mesh_file(const MeshSource& m, const KeyName& key) {
+drape::ClothMesh<double> read_obj_mesh(const std::string& path, double scale, bool rest_from_uv, const KeyName& key,
+                                       const std::string& file_key) {
 #if DRAPE_SCENE_FILE_HAS_MESH_IO
   drape::mesh_io::ObjOptions options;
-  options.scale = m.scale;
-  options.rest_from_uv = m.rest_from_uv;
+  options.scale = scale;
+  options.rest_from_uv = rest_from_uv;
   try {
-    return drape::mesh_io::read_obj<double>(m.file, options).mesh;
+    return drape::mesh_io::read_obj<double>(path, options).mesh;
   } catch (const drape::mesh_io::ObjError& e) {
-    throw SettingsError(key("mesh") + ": " + std::string(e.what()));
+    throw SettingsError(key(file_key) + ": " + std::string(e.what()));
   } catch (const InvalidParameter& e) {
-    fail(key(e.parameter() == "ObjOptions::scale" ? "scale" : "mesh"), e.value(), e.allowed());
+    fail(key(e.parameter() == "ObjOptions::scale" ? "scale" : file_key), e.value(), e.allowed());
   }
 #else
-  throw SettingsError(key("mesh") + " '" + m.file +
+  (void)scale;
+  (void)rest_from_uv;
+  throw SettingsError(key(file_key) + " '" + path +
                       "': this build reads no OBJ files (it was built without tinyobjloader: "
                       "apt-get install libtinyobjloader-dev and rebuild)");
 #endif
+}
+
+namespace {
+
+drape::ClothMesh<double> read_mesh_file(const MeshSource& m, const KeyName& key) {
+  return read_obj_mesh(m.file, m.scale, m.rest_from_uv, key, "mesh");
 }
 
 /// Vertices a scene file may generate: a scene's mesh, not a stress test (the library's generators

@@ -13,6 +13,11 @@ namespace drape::scene_file::detail {
 /// "scene file 'a.toml': cloths[1].edge-length" for a [[cloths]] table.
 using KeyName = std::function<std::string(const std::string& name)>;
 
+/// The mesh of the OBJ file at `path`, `scale` metres per file unit, its rest shape from the `vt`
+/// coordinates if `rest_from_uv`. \throws SettingsError naming key(file_key), or key("scale").
+drape::ClothMesh<double> read_obj_mesh(const std::string& path, double scale, bool rest_from_uv, const KeyName& key,
+                                       const std::string& file_key);
+
 /// Sets spec.mesh (read or generated from `m`; none when `m` is the grid), spec.areal_density and
 /// the pins by group and box (joined to spec.pinned_nodes, or to the boundary preset's corners on a
 /// grid without them). The placement must be set.

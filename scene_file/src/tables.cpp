@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "error_names.hpp"
+#include "resolve_mesh.hpp"
 #include "toml_values.hpp"
 
 namespace drape::scene_file::detail {
@@ -76,6 +77,7 @@ const ShapeKeys& shape_keys(drape::ShapeKind kind) {
       {drape::ShapeKind::Box, {{"center", "half_extents"}, {"rotation_axis", "rotation_angle", "rounding"}}},
       {drape::ShapeKind::Cylinder,
        {{"center", "radius", "half_height"}, {"rotation_axis", "rotation_angle", "rounding"}}},
+      {drape::ShapeKind::Mesh, {{"file"}, {"center", "scale", "rotation_axis", "rotation_angle"}}},
   };
   return keys.at(kind);
 }
@@ -155,9 +157,10 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
         return drape::Colliderd::capsule(a, b, scalar("radius"));
       }
       case ShapeKind::Box:
-      case ShapeKind::Cylinder: break;
+      case ShapeKind::Cylinder:
+      case ShapeKind::Mesh: break;
     }
-    // Box and cylinder: a centre, turned about an axis.
+    // Box, cylinder and mesh: a centre, turned about an axis.
     key_of["collider position"] = "center";
     const drape::Vec3<double> axis = vector("rotation_axis", {0, 1, 0});
     const double angle = scalar("rotation_angle");
@@ -169,6 +172,19 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
       fail("scene file '" + file + "': " + key + ".rotation_angle", number(angle), "finite degrees");
     const drape::Mat3<double> rotation =
         Eigen::AngleAxisd(angle * (3.14159265358979323846 / 180.0), axis.normalized()).toRotationMatrix();
+    if (kind == ShapeKind::Mesh) {
+      // The OBJ file's vertices in metres (scale per file unit), relative to the scene file.
+      const std::string path = scene_relative(from_toml<std::string>(*t.get("file"), key + ".file", file), file);
+      const KeyName name = [&](const std::string& k) { return "scene file '" + file + "': " + key + "." + k; };
+      const drape::ClothMesh<double> mesh = read_obj_mesh(path, scalar("scale", 1.0), false, name, "file");
+      try {
+        return drape::Colliderd::mesh(mesh, vector("center"), rotation);
+      } catch (const InvalidParameter& e) {
+        if (e.parameter().rfind("collider mesh", 0) != 0) throw;
+        // The element as the file has it: "collider mesh.triangles[3]" -> "file 'x.obj': triangles[3]".
+        fail(name("file") + " '" + path + "'" + e.parameter().substr(13), e.value(), e.allowed());
+      }
+    }
     if (kind == ShapeKind::Cylinder)
       return drape::Colliderd::cylinder(vector("center"), scalar("radius"), scalar("half_height"), rotation,
                                         scalar("rounding"));

@@ -570,7 +570,7 @@ TEST_CASE("collider parameters are checked, each error names its parameter", "[c
   CHECK(ball.radius() == 1);
   CHECK(to_string(ShapeKind::Capsule) == std::string("capsule"));
   CHECK(parse<ShapeKind>("box") == ShapeKind::Box);
-  CHECK(joined_names<ShapeKind>() == "plane, sphere, capsule, box, cylinder");
+  CHECK(joined_names<ShapeKind>() == "plane, sphere, capsule, box, cylinder, mesh");
   CHECK(parse<ShapeKind>("cylinder") == ShapeKind::Cylinder);
   CHECK_THROWS_WITH(parse<ShapeKind>("cone"), Catch::Contains("'collider shape'"));
 }

@@ -1,14 +1,16 @@
 // Contact with colliders in both integrators (contact/contact_handler.hpp): resting contact with
-// the reaction equal to the weight (on a floor and on a round table), a cloth draped over a table's
-// rounded rim, Coulomb friction on a slope against g (sin a - mu cos a), no tunnelling through a thin
-// box or disk or past a fast collider (checked by brute force on every node's path), direct and
-// iterative solvers agreeing, momentum, determinism and bad input.
+// the reaction equal to the weight (on a floor, on a box mesh's top and on a round table), a cloth
+// draped over a table's rounded rim, Coulomb friction on a slope (analytic and meshed) against
+// g (sin a - mu cos a), no tunnelling through a thin box, a thin mesh plate or a disk or past a fast
+// collider or a fast mesh plate (checked by brute force on every node's path), direct and iterative
+// solvers agreeing, momentum, determinism (on a mesh too) and bad input.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <functional>
 #include <memory>
 
+#include "drape/core/solid_generators.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/integrators/make_integrator.hpp"
@@ -74,13 +76,17 @@ double segment_distance(const Vec3<double>& p0, const Vec3<double>& p1, const Ve
 
 }  // namespace
 
-TEMPLATE_TEST_CASE("contact: a cloth dropped on a plane rests on it and the floor carries its weight", "[contact]",
-                   float, double) {
+TEMPLATE_TEST_CASE("contact: a cloth dropped on a plane or a box mesh rests on it and the floor carries its weight",
+                   "[contact][mesh_collider]", float, double) {
   using S = TestType;
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
-    INFO(to_string(kind));
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic})
+    for (const bool meshed : {false, true}) {
+    INFO(to_string(kind) << (meshed ? ", box mesh" : ", plane"));
     ClothSpec<S> spec = free_cloth<S>();
-    spec.colliders.push_back(Collider<S>::plane(Vec3<S>(0, S(-0.3), 0), Vec3<S>(0, 1, 0)));
+    // The floor at y = -0.3: a plane, or the top of a 4 m wide box meshed with 2 x 2 squares a face.
+    spec.colliders.push_back(meshed ? Collider<S>::mesh(box_mesh<S>(Vec3<S>(2, S(0.5), 2), 2),
+                                                        Vec3<S>(S(0.5), S(-0.8), S(0.5)))
+                                    : Collider<S>::plane(Vec3<S>(0, S(-0.3), 0), Vec3<S>(0, 1, 0)));
     const Cloth<S> cloth(spec);
     auto stepper = integrator(cloth, kind);
     State<S> state = cloth.initial_state();
@@ -104,7 +110,7 @@ TEMPLATE_TEST_CASE("contact: a cloth dropped on a plane rests on it and the floo
     CHECK(std::abs(double(report.normal_force.x())) + std::abs(double(report.normal_force.z())) <= 1e-6 * weight);
     CHECK(mean_velocity(state).norm() <= 1e-3);
     CHECK(std::abs(double(state.positions.row(1).mean()) - double(floor)) <= 1e-4);
-  }
+    }
 }
 
 TEMPLATE_TEST_CASE("contact: a cloth dropped on a round table rests on its top; over a smaller one it drapes",
@@ -158,17 +164,22 @@ TEMPLATE_TEST_CASE("contact: a cloth dropped on a round table rests on its top; 
   }
 }
 
-TEMPLATE_TEST_CASE("contact: friction on a slope, sliding at g (sin a - mu cos a) or sticking", "[contact][friction]",
-                   float, double) {
+TEMPLATE_TEST_CASE("contact: friction on a slope, analytic or meshed, sliding at g (sin a - mu cos a) or sticking",
+                   "[contact][friction][mesh_collider]", float, double) {
   using S = TestType;
   const double angle = 20 * pi / 180;  // tan a = 0.364
   for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic})
-    for (const double mu : {0.0, 0.2, 0.5}) {
-      INFO(to_string(kind) << ", mu = " << mu);
+    for (const double mu : {0.0, 0.2, 0.5})
+      for (const bool meshed : {false, true}) {
+      INFO(to_string(kind) << ", mu = " << mu << (meshed ? ", box mesh" : ", plane"));
       ClothSpec<S> spec = free_cloth<S>();
       const Mat3<S> tilt = Eigen::AngleAxis<S>(S(angle), Vec3<S>::UnitZ()).toRotationMatrix();
       const Vec3<S> normal = tilt * Vec3<S>::UnitY();
-      spec.colliders.push_back(Collider<S>::plane(Vec3<S>::Zero(), normal).set_friction(S(mu), S(mu)));
+      // The slope through the origin: a plane, or the top face of an 8 m tilted box mesh.
+      spec.colliders.push_back(
+          (meshed ? Collider<S>::mesh(box_mesh<S>(Vec3<S>(4, S(0.5), 4), 4), Vec3<S>(-S(0.5) * normal), tilt)
+                  : Collider<S>::plane(Vec3<S>::Zero(), normal))
+              .set_friction(S(mu), S(mu)));
       const Cloth<S> cloth(spec);
       auto stepper = integrator(cloth, kind);
       State<S> state = cloth.initial_state();
@@ -283,15 +294,19 @@ TEST_CASE("contact: a surface that had to pull lets go for good: a cloth blown o
   }
 }
 
-TEST_CASE("contact: a cloth thrown at a thin box never passes through it", "[contact][tunnelling]") {
-  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
-    INFO(to_string(kind));
+TEST_CASE("contact: a cloth thrown at a thin box or a thin mesh plate never passes through it",
+          "[contact][tunnelling][mesh_collider]") {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic})
+    for (const bool meshed : {false, true}) {
+    INFO(to_string(kind) << (meshed ? ", mesh plate" : ", box"));
     ClothSpecd spec = free_cloth<double>();
     spec.gravity = 0;
     // 1 cm thick, 3 m wide, top face at y = 0; the cloth moves 0.3 m (implicit) or 15 mm (RK2)
     // per step toward it, more than the box is thick.
     const double half = 0.005;
-    spec.colliders.push_back(Colliderd::box(Vec3<double>(0.5, -half, 0.5), Vec3<double>(1.5, half, 1.5)));
+    const Vec3<double> centre(0.5, -half, 0.5), extents(1.5, half, 1.5);
+    spec.colliders.push_back(meshed ? Colliderd::mesh(box_mesh<double>(extents, 3), centre)
+                                    : Colliderd::box(centre, extents));
     const Clothd cloth(spec);
     auto stepper = integrator(cloth, kind);
     Stated state = cloth.initial_state();
@@ -305,7 +320,7 @@ TEST_CASE("contact: a cloth thrown at a thin box never passes through it", "[con
       }
     });
     CHECK(state.velocities.row(1).maxCoeff() <= 1e-6);  // stopped on it, not bounced through
-  }
+    }
 }
 
 TEST_CASE("contact: a cloth thrown at a thin disk never passes through it", "[contact][tunnelling][cylinder]") {
@@ -362,6 +377,41 @@ TEST_CASE("contact: a fast tilted rod swept through a hanging cloth never passes
       }
     });
     CHECK(state.positions.row(1).maxCoeff() > 0.3);  // thrown up by the rod
+  }
+}
+
+TEST_CASE("contact: a thin mesh plate swept fast through a hanging cloth never passes a node",
+          "[contact][tunnelling][mesh_collider]") {
+  for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic}) {
+    INFO(to_string(kind));
+    ClothSpecd spec = free_cloth<double>(11);
+    spec.pinned_nodes = std::vector<int>{0, 10};  // two corners
+    // A plate 4 mm thick and 0.6 m wide, tilted, under the cloth's middle and moving up at 20 m/s:
+    // 0.2 m per implicit step, fifty times its thickness. The same plate as an analytic box judges.
+    const double speed = 20.0;
+    const Vec3<double> extents(0.3, 0.002, 0.3), centre(0.5, -1.0, 0.5);
+    const Mat3<double> turn = Eigen::AngleAxisd(0.3, Vec3<double>(1, 0, 1).normalized()).toRotationMatrix();
+    const Colliderd plate = Colliderd::mesh(box_mesh<double>(extents, 2), centre, turn).moving(Vec3<double>(0, speed, 0));
+    const Colliderd judge = Colliderd::box(centre, extents, turn).moving(Vec3<double>(0, speed, 0));
+    spec.colliders.push_back(plate);
+    const Clothd cloth(spec);
+    auto stepper = integrator(cloth, kind);
+    Stated state = cloth.initial_state();
+    const double h = cloth.contact_thickness();
+    run<double>(*stepper, state, 0.1, [&](const Stated& before, const Stated& after) {
+      // Each node's straight path in the plate's frame, sampled 0.5 mm apart or closer, stays
+      // outside the plate inflated by h.
+      const RigidPose<double> pose0 = judge.motion().pose(before.time), pose1 = judge.motion().pose(after.time);
+      for (Index i = 0; i < after.positions.cols(); ++i) {
+        const Vec3<double> p0 = pose0.to_local(before.positions.col(i)), p1 = pose1.to_local(after.positions.col(i));
+        const int samples = 1 + int((p1 - p0).norm() / 5e-4);
+        for (int j = 0; j <= samples; ++j) {
+          const Vec3<double> world = pose0.to_world(p0 + (p1 - p0) * (double(j) / samples));
+          REQUIRE(judge.query(world, before.time).distance >= h - cloth.contact_tolerance());
+        }
+      }
+    });
+    CHECK(state.positions.row(1).maxCoeff() > 0.3);  // thrown up by the plate
   }
 }
 
@@ -441,9 +491,11 @@ TEST_CASE("contact: colliders out of reach change nothing; momentum kept without
   }
 }
 
-TEST_CASE("contact: same inputs and threads give bit-identical states", "[contact][determinism]") {
+TEST_CASE("contact: same inputs and threads give bit-identical states", "[contact][determinism][mesh_collider]") {
   ClothSpecd spec = free_cloth<double>(17);
   spec.colliders.push_back(Colliderd::sphere(Vec3<double>(0.8, -0.5, 0.8), 0.45).set_friction(0.4, 0.3));
+  spec.colliders.push_back(
+      Colliderd::mesh(torus_mesh<double>(0.4, 0.1, 48, 16), Vec3<double>(0.8, -0.6, 0.8)).set_friction(0.3, 0.3));
   spec.colliders.push_back(Colliderd::plane(Vec3<double>(0, -0.9, 0), Vec3<double>(0, 1, 0)).set_friction(0.5, 0.5));
   const Clothd cloth(spec);
   for (const int threads : {1, 2}) {

@@ -239,6 +239,55 @@ velocity = [1.0, 0.0, 0.0]
   fs::remove_all(dir);
 }
 
+TEST_CASE("colliders: a [[colliders]] mesh reads its OBJ file, scaled, placed and turned as the file says",
+          "[scene_file][colliders][mesh_collider]") {
+  using Catch::Contains;
+  const fs::path dir = fresh_dir("mesh_collider");
+  // A cube 20 cm across in centimetres, its faces counter-clockwise seen from outside.
+  const std::string cube = "v -10 -10 -10\nv 10 -10 -10\nv 10 10 -10\nv -10 10 -10\n"
+                           "v -10 -10 10\nv 10 -10 10\nv 10 10 10\nv -10 10 10\n"
+                           "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 3 4 8 7\nf 2 3 7 6\nf 1 5 8 4\n";
+  std::ofstream(dir / "cube.obj") << cube;
+  const Settings s = read_text(dir, R"(
+[[colliders]]
+shape = "mesh"
+file = "cube.obj"
+scale = 0.01
+center = [1.0, 2.0, 3.0]
+rotation_axis = [0.0, 1.0, 0.0]
+rotation_angle = 45.0
+static_friction = 0.3
+)");
+  const std::vector<drape::Colliderd>& c = s.cloth.colliders;
+  REQUIRE(c.size() == 1);
+  REQUIRE(c[0].kind() == drape::ShapeKind::Mesh);
+  CHECK(c[0].static_friction() == 0.3);
+  // 10 cm half extents about (1, 2, 3), turned 45 degrees about y: a corner direction is along x.
+  CHECK(distance(c[0], 1.0, 2.5, 3.0) == Approx(0.4));
+  CHECK(distance(c[0], 1.5, 2.0, 3.0) == Approx(0.5 - 0.1 * std::sqrt(2.0)).epsilon(1e-9));
+  CHECK(distance(c[0], 1.0, 2.0, 3.0) == Approx(-0.1));
+
+  // Errors name the table's key and the file.
+  CHECK_THAT(error_of(dir, "[[colliders]]\nshape = \"mesh\"\n"), Contains("colliders[0].file") && Contains("missing"));
+  CHECK_THAT(error_of(dir, "[[colliders]]\nshape = \"mesh\"\nfile = \"none.obj\"\n"),
+             Contains("colliders[0].file") && Contains("none.obj"));
+  CHECK_THAT(error_of(dir, "[[colliders]]\nshape = \"mesh\"\nfile = \"cube.obj\"\nscale = -1.0\n"),
+             Contains("colliders[0].scale") && Contains("> 0"));
+  CHECK_THAT(error_of(dir, "[[colliders]]\nshape = \"mesh\"\nfile = \"cube.obj\"\nradius = 1.0\n"),
+             Contains("colliders[0].radius") && Contains("does not belong"));
+  std::string inward = cube;
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"f 1 4 3 2", "f 2 3 4 1"}, {"f 5 6 7 8", "f 8 7 6 5"}, {"f 1 2 6 5", "f 5 6 2 1"},
+           {"f 3 4 8 7", "f 7 8 4 3"}, {"f 2 3 7 6", "f 6 7 3 2"}, {"f 1 5 8 4", "f 4 8 5 1"}})
+    inward.replace(inward.find(from), from.size(), to);
+  std::ofstream(dir / "inward.obj") << inward;
+  CHECK_THAT(error_of(dir, "[[colliders]]\nshape = \"mesh\"\nfile = \"inward.obj\"\n"),
+             Contains("colliders[0].file") && Contains("inward.obj") && Contains("inward"));
+  std::ofstream(dir / "flat.obj") << "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n";
+  CHECK_THAT(error_of(dir, "[[colliders]]\nshape = \"mesh\"\nfile = \"flat.obj\"\n"),
+             Contains("colliders[0].file") && Contains("flat.obj"));
+}
+
 TEST_CASE("[[colliders]], [[moving-pins]], [[cloths]]: one reader names unknown and misspelt keys, bad entries",
           "[scene_file][tables]") {
   const fs::path dir = fresh_dir("tables");

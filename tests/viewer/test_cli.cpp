@@ -1043,6 +1043,10 @@ TEST_CASE("scenes/flag_with_hole.toml: no intersection", "[cli][.examples][flag_
   check_example_frames("flag_with_hole", "");
 }
 
+TEST_CASE("scenes/shawl.toml: no intersection, nothing inside the body mesh", "[cli][.examples][shawl][mesh_collider]") {
+  check_example_frames("shawl", "");
+}
+
 TEST_CASE("[[cloths]] tables: more cloths in the scene, their errors named by key", "[cli][cloths]") {
   const fs::path dir = fresh_dir("cloths");
   auto scene_with = [&](const std::string& table) {

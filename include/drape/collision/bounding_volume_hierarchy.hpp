@@ -3,7 +3,8 @@
 /// The broad phase of cloth self-collision: a bounding volume hierarchy of axis-aligned boxes over
 /// a mesh's triangles, refitted to each step's motion, that lists the pairs of triangles whose
 /// boxes overlap. With the feature ownership of mesh_topology.hpp those pairs give every
-/// vertex-triangle and edge-edge pair the narrow phase has to look at, each once.
+/// vertex-triangle and edge-edge pair the narrow phase has to look at, each once. nearest() finds
+/// the triangle closest to a point (mesh_distance.hpp: the signed distance of a mesh collider).
 ///
 /// Built once, refitted every call: the tree is split top-down (median of the triangle centroids
 /// along the longest axis of their box) on the positions it is built from, normally the rest
@@ -21,6 +22,7 @@
 #include <array>
 #include <cstddef>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "drape/collision/mesh_topology.hpp"
@@ -78,6 +80,17 @@ class TriangleBvh {
   /// allocation once its capacity suffices.
   void overlapping_pairs(std::vector<std::array<int, 2>>& out) const;
 
+  /// Branch and bound for the triangle nearest a point p: the boxes are visited nearer first and
+  /// skipped once they are farther than `best_squared` (the squared distance to beat: infinity, or
+  /// a bound the caller knows). `closer(t, best_squared)` measures triangle t and, if it is nearer
+  /// than `best_squared`, lowers it and returns true. Returns the last triangle that did, -1 if
+  /// none. The boxes are the last refit's (without margin, they hold the triangles).
+  template <class Closer>
+  int nearest(const Vec3<Scalar>& p, Scalar& best_squared, Closer&& closer) const;
+  /// Calls `visit(t)` for every triangle whose box (the last refit's) overlaps `box`.
+  template <class Visit>
+  void for_each_overlapping(const Box& box, Visit&& visit) const;
+
   int triangle_count() const { return static_cast<int>(m_order.size()); }
   int leaf_size() const { return m_leaf_size; }
   /// Boxes in the tree, leaves included.
@@ -96,6 +109,11 @@ class TriangleBvh {
     int right;
   };
 
+  /// The squared distance from p to the box (0 inside).
+  static Scalar distance_squared(const Box& box, const Vec3<Scalar>& p) {
+    const Vec3<Scalar> out = (box.lo - p).cwiseMax(p - box.hi).cwiseMax(Scalar(0));
+    return out.squaredNorm();
+  }
   static Box empty_box() {
     return {Vec3<Scalar>::Constant(std::numeric_limits<Scalar>::infinity()),
             Vec3<Scalar>::Constant(-std::numeric_limits<Scalar>::infinity())};
@@ -271,6 +289,62 @@ void TriangleBvh<Scalar>::cross_pairs(int a, int b, std::vector<std::array<int, 
   } else {
     cross_pairs(a, b + 1, out);
     cross_pairs(a, vb.right, out);
+  }
+}
+
+template <class Scalar>
+template <class Closer>
+int TriangleBvh<Scalar>::nearest(const Vec3<Scalar>& p, Scalar& best_squared, Closer&& closer) const {
+  int best = -1;
+  if (m_volumes.empty()) return best;
+  // The median split keeps the depth below log2(n) + 2: a stack of 64 holds any tree that fits memory.
+  std::array<std::pair<int, Scalar>, 64> stack;
+  int top = 0;
+  stack[static_cast<std::size_t>(top++)] = {0, distance_squared(m_volumes.front().box, p)};
+  while (top > 0) {
+    const auto [v, reach] = stack[static_cast<std::size_t>(--top)];
+    if (reach > best_squared) continue;
+    const Volume& volume = m_volumes[static_cast<std::size_t>(v)];
+    if (is_leaf(volume)) {
+      for (int s = volume.first; s < volume.first + volume.count; ++s)
+        if (distance_squared(m_boxes[static_cast<std::size_t>(s)], p) <= best_squared &&
+            closer(m_order[static_cast<std::size_t>(s)], best_squared))
+          best = m_order[static_cast<std::size_t>(s)];
+      continue;
+    }
+    const int left = v + 1, right = volume.right;
+    const Scalar d_left = distance_squared(m_volumes[static_cast<std::size_t>(left)].box, p);
+    const Scalar d_right = distance_squared(m_volumes[static_cast<std::size_t>(right)].box, p);
+    // The nearer child goes on top, so it is searched first and the farther one is likely pruned.
+    if (d_left <= d_right) {
+      stack[static_cast<std::size_t>(top++)] = {right, d_right};
+      stack[static_cast<std::size_t>(top++)] = {left, d_left};
+    } else {
+      stack[static_cast<std::size_t>(top++)] = {left, d_left};
+      stack[static_cast<std::size_t>(top++)] = {right, d_right};
+    }
+  }
+  return best;
+}
+
+template <class Scalar>
+template <class Visit>
+void TriangleBvh<Scalar>::for_each_overlapping(const Box& box, Visit&& visit) const {
+  if (m_volumes.empty()) return;
+  std::array<int, 64> stack;
+  int top = 0;
+  stack[static_cast<std::size_t>(top++)] = 0;
+  while (top > 0) {
+    const int v = stack[static_cast<std::size_t>(--top)];
+    const Volume& volume = m_volumes[static_cast<std::size_t>(v)];
+    if (!volume.box.overlaps(box)) continue;
+    if (is_leaf(volume)) {
+      for (int s = volume.first; s < volume.first + volume.count; ++s)
+        if (m_boxes[static_cast<std::size_t>(s)].overlaps(box)) visit(m_order[static_cast<std::size_t>(s)]);
+      continue;
+    }
+    stack[static_cast<std::size_t>(top++)] = volume.right;
+    stack[static_cast<std::size_t>(top++)] = v + 1;
   }
 }
 

@@ -1,11 +1,12 @@
 #pragma once
 /// \file collider.hpp
-/// Analytic rigid colliders for cloth contact: a plane, a sphere, a capsule, a box with rounded
-/// edges and a cylinder with rounded rims, each an exact Euclidean signed distance in its own
-/// frame, placed and moved by a rigid motion. A query returns the signed distance, the outward
+/// Rigid colliders for cloth contact: a plane, a sphere, a capsule, a box with rounded edges and a
+/// cylinder with rounded rims, each an exact Euclidean signed distance in its own frame, and a
+/// closed triangle mesh (a body, an object read from OBJ), its signed distance from the nearest
+/// triangle (collision/mesh_distance.hpp); each placed and moved by a rigid motion. A query returns the signed distance, the outward
 /// normal (its analytic gradient) and the velocity of the collider's surface at a point; a swept
 /// test finds the first time a point's straight path comes within a given offset of the surface,
-/// without sampling, so a fast point cannot tunnel through a thin box.
+/// without sampling, so a fast point cannot tunnel through a thin box or a thin part of a mesh.
 
 #include <algorithm>
 #include <array>
@@ -13,12 +14,16 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 
+#include "drape/collision/mesh_distance.hpp"
 #include "drape/config.hpp"
+#include "drape/core/cloth_mesh.hpp"
 #include "drape/core/enum_names.hpp"
 #include "drape/core/types.hpp"
 #include "drape/core/validation.hpp"
@@ -67,16 +72,17 @@ class RigidMotion {
   std::function<RigidPose<Scalar>(Scalar)> m_callback;
 };
 
-enum class ShapeKind : std::uint8_t { Plane, Sphere, Capsule, Box, Cylinder };
+enum class ShapeKind : std::uint8_t { Plane, Sphere, Capsule, Box, Cylinder, Mesh };
 
 template <>
 struct EnumNames<ShapeKind> {
   static constexpr const char* parameter = "collider shape";
-  static constexpr std::array<EnumName<ShapeKind>, 5> values{{{ShapeKind::Plane, "plane"},
+  static constexpr std::array<EnumName<ShapeKind>, 6> values{{{ShapeKind::Plane, "plane"},
                                                               {ShapeKind::Sphere, "sphere"},
                                                               {ShapeKind::Capsule, "capsule"},
                                                               {ShapeKind::Box, "box"},
-                                                              {ShapeKind::Cylinder, "cylinder"}}};
+                                                              {ShapeKind::Cylinder, "cylinder"},
+                                                              {ShapeKind::Mesh, "mesh"}}};
 };
 
 /// What a collider query returns at one point and time.
@@ -112,7 +118,9 @@ Scalar contact_tolerance(Scalar contact_thickness) {
 ///  - box: half extents h about the origin, edges and corners rounded with radius `rounding`
 ///    inside the same outer size;
 ///  - cylinder: radius r about the y axis from y = -half_height to half_height, its two rims
-///    rounded with radius `rounding` inside the same outer size.
+///    rounded with radius `rounding` inside the same outer size;
+///  - mesh: the solid a closed triangle mesh bounds, its vertices in the local frame. An open mesh
+///    (a sheet) is allowed: its front side (faces counter-clockwise) is outside.
 template <class Scalar = double>
 class Collider {
  public:
@@ -133,6 +141,15 @@ class Collider {
   /// (finite, > 0), `collider rotation` or `collider rounding` ([0, min(radius, half height)]).
   static Collider cylinder(const Vec3<Scalar>& center, Scalar radius, Scalar half_height,
                            const Mat3<Scalar>& rotation = Mat3<Scalar>::Identity(), Scalar rounding = 0);
+
+  /// The solid bounded by `triangles` over `vertices` (3 x n, the local frame), placed at
+  /// `position` turned by `rotation`. Quads count as two triangles (0, 1, 2), (0, 2, 3).
+  /// \throws InvalidParameter naming `collider mesh` and the element (ClothMesh::validate(): an
+  /// empty mesh, an id out of range, a non-finite coordinate, a zero-area face, an edge of more
+  /// than two faces, faces that disagree on orientation), or `collider mesh` if a closed mesh's
+  /// faces wind inward (negative volume); then `collider position` or `collider rotation`.
+  static Collider mesh(const ClothMesh<Scalar>& mesh, const Vec3<Scalar>& position = Vec3<Scalar>::Zero(),
+                       const Mat3<Scalar>& rotation = Mat3<Scalar>::Identity());
 
   /// The motion of the shape's local frame; it replaces the factory's placement.
   Collider& set_motion(RigidMotion<Scalar> motion);
@@ -157,6 +174,8 @@ class Collider {
   Scalar static_friction() const { return m_static_friction; }
   Scalar kinetic_friction() const { return m_kinetic_friction; }
   const RigidMotion<Scalar>& motion() const { return m_motion; }
+  /// A mesh collider's geometry in its local frame (null for the other shapes).
+  const MeshDistance<Scalar>* mesh() const { return m_mesh.get(); }
   /// Radius of a ball about the local origin that holds the shape (infinite for a plane): the
   /// contact search skips points farther than this from the collider (broad phase).
   Scalar bounding_radius() const {
@@ -169,6 +188,7 @@ class Collider {
         const Scalar r = m_radius - m_rounding, h = m_half_height - m_rounding;
         return std::sqrt(r * r + h * h) + m_rounding;
       }
+      case ShapeKind::Mesh: return m_mesh->bounding_radius();
     }
     return std::numeric_limits<Scalar>::infinity();
   }
@@ -183,7 +203,9 @@ class Collider {
   /// or -1 if it never comes that close. Every shape is convex, so the distance along a line is a
   /// convex function of s: Newton steps from the start never pass its first root (conservative
   /// advancement, with steps at least the 1-Lipschitz bound's; exact in one step for the plane) and
-  /// a tangent that misses proves a miss. Tolerance max(1e-6, 16 eps) (1 + offset) m.
+  /// a tangent that misses proves a miss. A mesh is not convex, but each of its triangles is: the
+  /// same steps per triangle near the path, the least root wins (MeshDistance::first_contact()).
+  /// Tolerance max(1e-6, 16 eps) (1 + offset) m.
   /// No sampling: a fast point cannot skip a thin box. After 100 steps (a pathological path) the s
   /// reached, before which the path stays outside the offset surface, is returned.
   Scalar first_contact(const Vec3<Scalar>& x0, Scalar t0, const Vec3<Scalar>& x1, Scalar t1, Scalar offset) const {
@@ -209,6 +231,7 @@ class Collider {
   Scalar m_radius = 0, m_half_length = 0, m_half_height = 0, m_rounding = 0;
   Vec3<Scalar> m_half_extents = Vec3<Scalar>::Zero();
   Scalar m_static_friction = 0, m_kinetic_friction = 0;
+  std::shared_ptr<const MeshDistance<Scalar>> m_mesh;  // shared by copies: the geometry never changes
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -331,6 +354,29 @@ Collider<Scalar> Collider<Scalar>::cylinder(const Vec3<Scalar>& center, Scalar r
 }
 
 template <class Scalar>
+Collider<Scalar> Collider<Scalar>::mesh(const ClothMesh<Scalar>& mesh, const Vec3<Scalar>& position,
+                                        const Mat3<Scalar>& rotation) {
+  mesh.validate("collider mesh");
+  std::vector<std::array<int, 3>> triangles = mesh.all_triangles();
+  // Closed: every edge in two faces (validate() allows at most two). Counted by its directed half-edges.
+  std::vector<long long> half_edges;
+  half_edges.reserve(3 * triangles.size());
+  for (const std::array<int, 3>& t : triangles)
+    for (int k = 0; k < 3; ++k) half_edges.push_back(detail::edge_key(t[std::size_t(k)], t[std::size_t((k + 1) % 3)]));
+  std::sort(half_edges.begin(), half_edges.end());
+  bool closed = true;
+  for (std::size_t k = 0; k < half_edges.size() && closed; k += 2)
+    closed = k + 1 < half_edges.size() && half_edges[k] == half_edges[k + 1];
+  Collider c(ShapeKind::Mesh, RigidMotion<Scalar>::fixed(position, rotation));
+  c.m_mesh = std::make_shared<const MeshDistance<Scalar>>(std::move(triangles), mesh.positions);
+  const Scalar volume = c.m_mesh->signed_volume();
+  if (closed && !(volume > 0))
+    detail::fail_argument("collider mesh", "faces that wind inward (volume " + detail::to_text(volume) + " m^3)",
+                          "faces counter-clockwise seen from outside (positive volume)");
+  return c;
+}
+
+template <class Scalar>
 Collider<Scalar>& Collider<Scalar>::set_motion(RigidMotion<Scalar> motion) {
   m_motion = std::move(motion);
   return *this;
@@ -372,6 +418,10 @@ typename Collider<Scalar>::LocalDistance Collider<Scalar>::local_distance(const 
     }
     case ShapeKind::Box: break;
     case ShapeKind::Cylinder: return cylinder_distance(p);
+    case ShapeKind::Mesh: {
+      const typename MeshDistance<Scalar>::Closest c = m_mesh->closest(p);
+      return {c.distance, c.normal};
+    }
   }
   // The rounded box: the inner box h - rounding inflated by the rounding.
   const Vec3<Scalar> q = p.cwiseAbs() - (m_half_extents.array() - m_rounding).matrix();
@@ -419,6 +469,7 @@ Scalar Collider<Scalar>::first_contact(const Vec3<Scalar>& x0, const RigidPose<S
   const Vec3<Scalar> path = pose1.to_local(x1) - p0;
   const Scalar tolerance = std::max(Scalar(1e-6), 16 * std::numeric_limits<Scalar>::epsilon()) * (1 + offset);
   Scalar s = 0;
+  if (m_kind == ShapeKind::Mesh) return m_mesh->first_contact(p0, path, offset, tolerance);
   for (int step = 0; step < 100; ++step) {
     const LocalDistance here = local_distance(p0 + s * path);
     const Scalar gap = here.distance - offset;

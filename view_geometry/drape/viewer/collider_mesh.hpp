@@ -96,6 +96,14 @@ std::vector<Eigen::Vector3f> local_collider_mesh(const Collider<Scalar>& collide
     case ShapeKind::Cylinder:
       return detail::cylinder_mesh(double(collider.radius()), double(collider.half_height()),
                                    double(collider.rounding()), segments);
+    case ShapeKind::Mesh: {  // its own triangles
+      std::vector<Eigen::Vector3f> triangles;
+      const auto& x = collider.mesh()->positions();
+      triangles.reserve(3 * collider.mesh()->triangles().size());
+      for (const std::array<int, 3>& t : collider.mesh()->triangles())
+        for (int k : t) triangles.push_back(x.col(k).template cast<float>());
+      return triangles;
+    }
   }
   outer = inner.array() + r;
   constexpr double quarter_turn_half = 0.78539816339744831;  // 45 degrees
