@@ -292,3 +292,95 @@ TEST_CASE("solid generators: closed, outward and of the right volume", "[mesh_co
   CHECK(volume(box) == Approx(48.0).epsilon(1e-12));
   CHECK(volume(torus) == Approx(2 * pi * pi * 1.0 * 0.25 * 0.25).epsilon(0.01));
 }
+
+TEMPLATE_TEST_CASE("mesh collider: key frames of a box moving and turning answer as the analytic box moving so",
+                   "[mesh_collider][animated]", float, double) {
+  using S = TestType;
+  // Key frames of the box's vertices every 0.1 s along the analytic box's motion (velocity and
+  // spin about its centre): linear in between, so the surfaces differ by the chord of the turn.
+  const Vec3<S> half(S(0.3), S(0.2), S(0.4)), velocity(S(0.5), S(1), 0), spin(0, S(0.2), 0);
+  const Collider<S> box = Collider<S>::box(Vec3<S>::Zero(), half).moving(velocity, spin);
+  const ClothMesh<S> mesh = box_mesh<S>(half, 2);
+  std::vector<Matrix3X<S>> frames;
+  std::vector<S> times;
+  for (int k = 0; k <= 10; ++k) {
+    const S t = S(0.1) * S(k);
+    const RigidPose<S> pose = box.motion().pose(t);
+    frames.push_back((pose.rotation * mesh.positions).colwise() + pose.translation);
+    times.push_back(t);
+  }
+  const Collider<S> animated = Collider<S>::animated_mesh(mesh, frames, times);
+  CHECK(animated.deforms());
+  CHECK(animated.bounding_radius() >= half.norm());
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-1, 1), when(0, 1);
+  // The turn between frames is 0.02 rad: the chord is within 0.5 mm of the arc at this size.
+  const S close = S(5e-4);
+  int near = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const S t = S(when(rng));
+    const Vec3<S> p = box.motion().pose(t).translation + Vec3<S>(S(u(rng)), S(u(rng)), S(u(rng)));
+    near += std::abs(box.query(p, t).distance) < S(0.02) ? 1 : 0;
+    const ColliderContact<S> a = box.query(p, t), b = animated.query(p, t);
+    INFO("t " << t << ", p " << p.transpose());
+    REQUIRE(std::abs(a.distance - b.distance) <= close);
+    // Near the surface the velocity is the frames' slope at the closest point; the box's is that
+    // of its material point at p: they differ by w x (p - c), and by the turn over one frame interval.
+    if (std::abs(a.distance) < S(0.02)) REQUIRE((a.velocity - b.velocity).norm() <= S(0.01));
+  }
+  CHECK(near > 30);
+  // Before the first and after the last frame the mesh holds still.
+  Matrix3X<S> x;
+  animated.mesh_positions(S(-1), x);
+  CHECK(x == frames.front());
+  animated.mesh_positions(S(5), x);
+  CHECK(x == frames.back());
+  CHECK(animated.query(Vec3<S>(0, 5, 0), S(3)).velocity.norm() == 0);
+}
+
+TEST_CASE("mesh collider: the swept test of a deforming mesh finds every crossing of a moving plate",
+          "[mesh_collider][animated][tunnelling]") {
+  // A 2 mm plate whose vertices move 0.5 m up in one step (key frames), points still or moving:
+  // the first contact is where the analytic box moving the same way first comes within the offset.
+  const Vec3<double> half(0.5, 0.001, 0.5);
+  const ClothMesh<double> plate = box_mesh<double>(half, 2);
+  Matrix3X<double> up = plate.positions;
+  up.row(1).array() += 0.5;
+  const Colliderd animated = Colliderd::animated_mesh(plate, {plate.positions, up}, {0.0, 1.0});
+  const Colliderd box = Colliderd::box(Vec3<double>::Zero(), half).moving(Vec3<double>(0, 0.5, 0));
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-0.6, 0.6), y(-0.2, 0.8);
+  const double offset = 0.004;
+  int hits = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3<double> x0(u(rng), y(rng), u(rng)), x1 = x0 + Vec3<double>(0.1 * u(rng), 0.3 * u(rng), 0.1 * u(rng));
+    const double a = box.first_contact(x0, 0.0, x1, 1.0, offset), b = animated.first_contact(x0, 0.0, x1, 1.0, offset);
+    INFO("x0 " << x0.transpose() << ", x1 " << x1.transpose() << ", s " << a << " " << b);
+    REQUIRE((a < 0) == (b < 0));
+    if (a < 0) continue;
+    ++hits;
+    // Never late, never far: at most the offset's tolerance from the analytic box's contact.
+    const auto gap = [&](double s) { return box.query(Vec3<double>(x0 + s * (x1 - x0)), s).distance - offset; };
+    REQUIRE(b <= a + 1e-9);
+    REQUIRE(gap(b) <= offset + 1e-6);
+  }
+  CHECK(hits > 500);
+}
+
+TEST_CASE("mesh collider: bad key frames name the frame and the element", "[mesh_collider][animated][validation]") {
+  const ClothMesh<double> box = box_mesh<double>(Vec3<double>(0.5, 0.5, 0.5));
+  const Matrix3X<double> x = box.positions;
+  REQUIRE_THROWS_WITH(Colliderd::animated_mesh(box, {}, {}), Catch::Contains("collider frames"));
+  REQUIRE_THROWS_WITH(Colliderd::animated_mesh(box, {x, x}, {0.0}), Catch::Contains("collider frame times"));
+  REQUIRE_THROWS_WITH(Colliderd::animated_mesh(box, {x, x}, {1.0, 1.0}),
+                      Catch::Contains("collider frame times") && Catch::Contains("increasing"));
+  REQUIRE_THROWS_WITH(Colliderd::animated_mesh(box, {x, Matrix3X<double>(x.leftCols(5))}, {0.0, 1.0}),
+                      Catch::Contains("collider frames[1]") && Catch::Contains("vertices"));
+  Matrix3X<double> flat = x;
+  flat.row(1).setZero();
+  REQUIRE_THROWS_WITH(Colliderd::animated_mesh(box, {x, x, flat}, {0.0, 1.0, 2.0}),
+                      Catch::Contains("collider frames[2].triangles"));
+  Matrix3X<double> nan = x;
+  nan(2, 3) = std::numeric_limits<double>::quiet_NaN();
+  REQUIRE_THROWS_WITH(Colliderd::animated_mesh(box, {nan}, {0.0}), Catch::Contains("collider frames[0]"));
+}

@@ -3,7 +3,8 @@
 /// Rigid colliders for cloth contact: a plane, a sphere, a capsule, a box with rounded edges and a
 /// cylinder with rounded rims, each an exact Euclidean signed distance in its own frame, and a
 /// closed triangle mesh (a body, an object read from OBJ), its signed distance from the nearest
-/// triangle (collision/mesh_distance.hpp); each placed and moved by a rigid motion. A query returns the signed distance, the outward
+/// triangle (collision/mesh_distance.hpp); each placed and moved by a rigid motion. A mesh may also
+/// deform: key frames of its vertices (an animated body), linear in time between them. A query returns the signed distance, the outward
 /// normal (its analytic gradient) and the velocity of the collider's surface at a point; a swept
 /// test finds the first time a point's straight path comes within a given offset of the surface,
 /// without sampling, so a fast point cannot tunnel through a thin box or a thin part of a mesh.
@@ -22,6 +23,7 @@
 #include <Eigen/Geometry>
 
 #include "drape/collision/mesh_distance.hpp"
+#include "drape/collision/mesh_sweep.hpp"
 #include "drape/config.hpp"
 #include "drape/core/cloth_mesh.hpp"
 #include "drape/core/enum_names.hpp"
@@ -151,6 +153,16 @@ class Collider {
   static Collider mesh(const ClothMesh<Scalar>& mesh, const Vec3<Scalar>& position = Vec3<Scalar>::Zero(),
                        const Mat3<Scalar>& rotation = Mat3<Scalar>::Identity());
 
+  /// A mesh whose vertices move: `frames[k]` (3 x n, the local frame, n = mesh.positions.cols())
+  /// at `times[k]` (s), linear in between, held before the first and after the last. The faces are
+  /// mesh's and every frame must suit them (as mesh.positions must); mesh.positions itself is not
+  /// used. \throws InvalidParameter as mesh(), naming `collider frames[k]` (its column count, a
+  /// non-finite coordinate, a zero-area face, faces that wind inward), or `collider frame times`
+  /// (one per frame, finite, strictly increasing).
+  static Collider animated_mesh(const ClothMesh<Scalar>& mesh, const std::vector<Matrix3X<Scalar>>& frames,
+                                const std::vector<Scalar>& times, const Vec3<Scalar>& position = Vec3<Scalar>::Zero(),
+                                const Mat3<Scalar>& rotation = Mat3<Scalar>::Identity());
+
   /// The motion of the shape's local frame; it replaces the factory's placement.
   Collider& set_motion(RigidMotion<Scalar> motion);
   /// Constant velocities from the current placement at t = 0, spinning about the shape's centre
@@ -174,8 +186,13 @@ class Collider {
   Scalar static_friction() const { return m_static_friction; }
   Scalar kinetic_friction() const { return m_kinetic_friction; }
   const RigidMotion<Scalar>& motion() const { return m_motion; }
-  /// A mesh collider's geometry in its local frame (null for the other shapes).
+  /// A mesh collider's geometry in its local frame (null for the other shapes); for a deforming
+  /// mesh, its first frame.
   const MeshDistance<Scalar>* mesh() const { return m_mesh.get(); }
+  /// True for a mesh with key frames (animated_mesh()).
+  bool deforms() const { return m_frames != nullptr; }
+  /// A mesh collider's vertices at time t in its local frame (the key frames interpolated).
+  void mesh_positions(Scalar t, Matrix3X<Scalar>& out) const;
   /// Radius of a ball about the local origin that holds the shape (infinite for a plane): the
   /// contact search skips points farther than this from the collider (broad phase).
   Scalar bounding_radius() const {
@@ -188,14 +205,17 @@ class Collider {
         const Scalar r = m_radius - m_rounding, h = m_half_height - m_rounding;
         return std::sqrt(r * r + h * h) + m_rounding;
       }
-      case ShapeKind::Mesh: return m_mesh->bounding_radius();
+      case ShapeKind::Mesh: return m_mesh_radius;
     }
     return std::numeric_limits<Scalar>::infinity();
   }
 
-  /// Signed distance, outward normal and surface velocity at world point x at time t.
-  ColliderContact<Scalar> query(const Vec3<Scalar>& x, Scalar t) const { return query(x, m_motion.pose(t)); }
-  /// query() with the collider's pose at that time given (a caller that queries many points).
+  /// Signed distance, outward normal and surface velocity at world point x at time t. A deforming
+  /// mesh is interpolated and its tree built for the call (O(n log n)): ContactHandler keeps its
+  /// own per step (collision/mesh_sweep.hpp).
+  ColliderContact<Scalar> query(const Vec3<Scalar>& x, Scalar t) const;
+  /// query() with the collider's pose at that time given (a caller that queries many points); not
+  /// for a deforming mesh, whose shape depends on the time.
   ColliderContact<Scalar> query(const Vec3<Scalar>& x, const RigidPose<Scalar>& pose) const;
   /// Swept test of a point going from x0 at t0 to x1 at t1 along a straight line in the collider's
   /// frame (between pose(t0).to_local(x0) and pose(t1).to_local(x1)) against the surface moved out
@@ -208,10 +228,8 @@ class Collider {
   /// Tolerance max(1e-6, 16 eps) (1 + offset) m.
   /// No sampling: a fast point cannot skip a thin box. After 100 steps (a pathological path) the s
   /// reached, before which the path stays outside the offset surface, is returned.
-  Scalar first_contact(const Vec3<Scalar>& x0, Scalar t0, const Vec3<Scalar>& x1, Scalar t1, Scalar offset) const {
-    return first_contact(x0, m_motion.pose(t0), x1, m_motion.pose(t1), offset);
-  }
-  /// first_contact() with the collider's poses at t0 and t1 given.
+  Scalar first_contact(const Vec3<Scalar>& x0, Scalar t0, const Vec3<Scalar>& x1, Scalar t1, Scalar offset) const;
+  /// first_contact() with the collider's poses at t0 and t1 given (not for a deforming mesh).
   Scalar first_contact(const Vec3<Scalar>& x0, const RigidPose<Scalar>& pose0, const Vec3<Scalar>& x1,
                        const RigidPose<Scalar>& pose1, Scalar offset) const;
 
@@ -232,7 +250,22 @@ class Collider {
   Vec3<Scalar> m_half_extents = Vec3<Scalar>::Zero();
   Scalar m_static_friction = 0, m_kinetic_friction = 0;
   std::shared_ptr<const MeshDistance<Scalar>> m_mesh;  // shared by copies: the geometry never changes
+  /// A deforming mesh's key frames.
+  struct KeyFrames {
+    std::vector<Matrix3X<Scalar>> positions;
+    std::vector<Scalar> times;
+  };
+  std::shared_ptr<const KeyFrames> m_frames;
+  Scalar m_mesh_radius = 0;  // the largest vertex distance from the local origin over all frames
 };
+
+namespace detail {
+/// The swept tests' tolerance on a distance (m): max(1e-6, 16 eps) (1 + offset).
+template <class Scalar>
+Scalar swept_tolerance(Scalar offset) {
+  return std::max(Scalar(1e-6), 16 * std::numeric_limits<Scalar>::epsilon()) * (1 + offset);
+}
+}  // namespace detail
 
 // ---------------------------------------------------------------------------------------------
 
@@ -369,11 +402,68 @@ Collider<Scalar> Collider<Scalar>::mesh(const ClothMesh<Scalar>& mesh, const Vec
     closed = k + 1 < half_edges.size() && half_edges[k] == half_edges[k + 1];
   Collider c(ShapeKind::Mesh, RigidMotion<Scalar>::fixed(position, rotation));
   c.m_mesh = std::make_shared<const MeshDistance<Scalar>>(std::move(triangles), mesh.positions);
+  c.m_mesh_radius = c.m_mesh->bounding_radius();
   const Scalar volume = c.m_mesh->signed_volume();
   if (closed && !(volume > 0))
     detail::fail_argument("collider mesh", "faces that wind inward (volume " + detail::to_text(volume) + " m^3)",
                           "faces counter-clockwise seen from outside (positive volume)");
   return c;
+}
+
+template <class Scalar>
+Collider<Scalar> Collider<Scalar>::animated_mesh(const ClothMesh<Scalar>& mesh, const std::vector<Matrix3X<Scalar>>& frames,
+                                                 const std::vector<Scalar>& times, const Vec3<Scalar>& position,
+                                                 const Mat3<Scalar>& rotation) {
+  if (frames.empty()) detail::fail_argument("collider frames", "none", "at least one key frame");
+  if (times.size() != frames.size())
+    detail::fail_argument("collider frame times", detail::to_text(times.size()) + " times",
+                          "one per frame (" + detail::to_text(frames.size()) + ")");
+  for (std::size_t k = 0; k < times.size(); ++k)
+    if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
+      detail::fail_argument("collider frame times", "times[" + detail::to_text(k) + "] = " + detail::to_text(times[k]),
+                            "finite and strictly increasing");
+  // Each frame checked as a static mesh would be; the first one is the collider's shape at rest.
+  const auto frame_collider = [&](std::size_t k) {
+    const std::string name = "collider frames[" + detail::to_text(k) + "]";
+    if (frames[k].cols() != mesh.positions.cols())
+      detail::fail_argument(name, detail::to_text(frames[k].cols()) + " vertices",
+                            detail::to_text(mesh.positions.cols()) + " (the mesh's)");
+    ClothMesh<Scalar> frame = mesh;
+    frame.positions = frames[k];
+    try {
+      return Collider::mesh(frame, position, rotation);
+    } catch (const InvalidParameter& e) {
+      // "collider mesh.triangles[3]" -> "collider frames[2].triangles[3]"
+      if (e.parameter().rfind("collider mesh", 0) != 0) throw;
+      detail::fail_argument(name + e.parameter().substr(13), e.value(), e.allowed());
+    }
+  };
+  Collider c = frame_collider(0);
+  for (std::size_t k = 1; k < frames.size(); ++k) c.m_mesh_radius = std::max(c.m_mesh_radius, frame_collider(k).m_mesh_radius);
+  c.m_frames = std::make_shared<const KeyFrames>(KeyFrames{frames, times});
+  return c;
+}
+
+template <class Scalar>
+void Collider<Scalar>::mesh_positions(Scalar t, Matrix3X<Scalar>& out) const {
+  DRAPE_ASSERT(m_kind == ShapeKind::Mesh, "mesh_positions: not a mesh collider");
+  if (!m_frames) {
+    out = m_mesh->positions();
+    return;
+  }
+  const std::vector<Scalar>& times = m_frames->times;
+  const std::vector<Matrix3X<Scalar>>& x = m_frames->positions;
+  if (!(t > times.front())) {
+    out = x.front();
+    return;
+  }
+  if (!(t < times.back())) {
+    out = x.back();
+    return;
+  }
+  const std::size_t k = static_cast<std::size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+  const Scalar w = (t - times[k - 1]) / (times[k] - times[k - 1]);
+  out = (1 - w) * x[k - 1] + w * x[k];
 }
 
 template <class Scalar>
@@ -456,7 +546,45 @@ typename Collider<Scalar>::LocalDistance Collider<Scalar>::cylinder_distance(con
 }
 
 template <class Scalar>
+ColliderContact<Scalar> Collider<Scalar>::query(const Vec3<Scalar>& x, Scalar t) const {
+  const RigidPose<Scalar> pose = m_motion.pose(t);
+  if (!deforms()) return query(x, pose);
+  // The mesh now, and its vertices' velocity: the slope of the key frames' segment holding t
+  // (zero before the first and after the last).
+  Matrix3X<Scalar> now;
+  mesh_positions(t, now);
+  const MeshDistance<Scalar> surface(m_mesh->triangles(), now);
+  const typename MeshDistance<Scalar>::Closest c = surface.closest(pose.to_local(x));
+  const std::vector<Scalar>& times = m_frames->times;
+  Vec3<Scalar> moving = Vec3<Scalar>::Zero();
+  if (t >= times.front() && t < times.back()) {
+    const std::size_t k = static_cast<std::size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+    const std::array<int, 3>& corner = m_mesh->triangles()[static_cast<std::size_t>(c.triangle)];
+    for (int q = 0; q < 3; ++q) {
+      const Index v = corner[std::size_t(q)];
+      moving += c.weights[q] * (m_frames->positions[k].col(v) - m_frames->positions[k - 1].col(v));
+    }
+    moving /= times[k] - times[k - 1];
+  }
+  return {c.distance, pose.rotation * c.normal, pose.point_velocity(x) + pose.rotation * moving};
+}
+
+template <class Scalar>
+Scalar Collider<Scalar>::first_contact(const Vec3<Scalar>& x0, Scalar t0, const Vec3<Scalar>& x1, Scalar t1,
+                                       Scalar offset) const {
+  if (!deforms()) return first_contact(x0, m_motion.pose(t0), x1, m_motion.pose(t1), offset);
+  Matrix3X<Scalar> start, end;
+  mesh_positions(t0, start);
+  mesh_positions(t1, end);
+  MeshSweep<Scalar> sweep(m_mesh->triangles(), start);
+  sweep.update(start, end);
+  return sweep.first_contact(m_motion.pose(t0).to_local(x0), m_motion.pose(t1).to_local(x1), offset,
+                             detail::swept_tolerance(offset));
+}
+
+template <class Scalar>
 ColliderContact<Scalar> Collider<Scalar>::query(const Vec3<Scalar>& x, const RigidPose<Scalar>& pose) const {
+  DRAPE_ASSERT(!deforms(), "query(x, pose): a deforming mesh needs the time");
   const LocalDistance local = local_distance(pose.to_local(x));
   return {local.distance, pose.rotation * local.normal, pose.point_velocity(x)};
 }
@@ -465,9 +593,10 @@ template <class Scalar>
 Scalar Collider<Scalar>::first_contact(const Vec3<Scalar>& x0, const RigidPose<Scalar>& pose0, const Vec3<Scalar>& x1,
                                        const RigidPose<Scalar>& pose1, Scalar offset) const {
   DRAPE_ASSERT(offset >= 0, "first_contact: offset must be >= 0");
+  DRAPE_ASSERT(!deforms(), "first_contact(x0, pose0, ...): a deforming mesh needs the times");
   const Vec3<Scalar> p0 = pose0.to_local(x0);
   const Vec3<Scalar> path = pose1.to_local(x1) - p0;
-  const Scalar tolerance = std::max(Scalar(1e-6), 16 * std::numeric_limits<Scalar>::epsilon()) * (1 + offset);
+  const Scalar tolerance = detail::swept_tolerance(offset);
   Scalar s = 0;
   if (m_kind == ShapeKind::Mesh) return m_mesh->first_contact(p0, path, offset, tolerance);
   for (int step = 0; step < 100; ++step) {

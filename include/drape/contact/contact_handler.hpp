@@ -25,11 +25,16 @@
 /// Finally every node is checked at its end position against every collider and pushed out to
 /// the distance h if it is deeper than h by more than the tolerance: the guarantee, counted in
 /// `ContactReport::corrected` (zero in the tested scenes).
+/// A key-framed (deforming) mesh collider is held per step as its surface at t and at t + dt with
+/// the swept boxes between (collision/mesh_sweep.hpp, made at its first step, refitted after): its
+/// queries take the surface of their end of the step, its surface velocity the vertices' motion
+/// across the step, its swept test the continuous vertex-triangle test on the moving triangles.
 
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "drape/contact/collider.hpp"
@@ -136,6 +141,10 @@ class ContactHandler {
     const Scalar reach = b.reach + offset + half_travel;
     return (middle - b.middle).squaredNorm() <= reach * reach;
   }
+  /// Collider k at world point x at the start (or the end) of the step.
+  ColliderContact<Scalar> query(std::size_t k, const Vec3<Scalar>& x, bool at_end) const;
+  /// The first s at which the path x0 (t) -> x1 (t + dt) comes within `offset` of collider k, -1 if never.
+  Scalar first_contact(std::size_t k, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar offset) const;
   /// The first collider the path x0 (t) -> x1 (t + dt) reaches within `offset`, as a contact
   /// taken at the start; false if none.
   bool sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar dt, Scalar offset, Contact& out) const;
@@ -155,6 +164,10 @@ class ContactHandler {
   std::vector<long long> m_let_go;
   long long m_step = 0;          // constrain() calls
   std::vector<Bounds> m_bounds;  // per collider, this step's
+  // Per collider: a deforming mesh over this step (null for the others), made at its first step.
+  std::vector<std::unique_ptr<MeshSweep<Scalar>>> m_sweeps;
+  Matrix3X<Scalar> m_frame_start, m_frame_end;  // scratch: a deforming mesh's vertices at t and t + dt
+  Scalar m_dt = 0;                              // this step's
   ContactReport<Scalar> m_report;
   bool m_constrained = false;  // constrain() began this step
 };
@@ -178,6 +191,35 @@ void ContactHandler<Scalar>::bound(Scalar t, Scalar dt) {
     b.middle = Scalar(0.5) * (b.start.translation + b.end.translation);
     b.reach = colliders[k].bounding_radius() + Scalar(0.5) * (b.end.translation - b.start.translation).norm();
   }
+  m_dt = dt;
+  m_sweeps.resize(colliders.size());
+  for (std::size_t k = 0; k < colliders.size(); ++k) {
+    if (!colliders[k].deforms()) continue;
+    colliders[k].mesh_positions(t, m_frame_start);
+    colliders[k].mesh_positions(t + dt, m_frame_end);
+    if (!m_sweeps[k]) m_sweeps[k] = std::make_unique<MeshSweep<Scalar>>(colliders[k].mesh()->triangles(), m_frame_start);
+    m_sweeps[k]->update(m_frame_start, m_frame_end);
+  }
+}
+
+template <class Scalar>
+ColliderContact<Scalar> ContactHandler<Scalar>::query(std::size_t k, const Vec3<Scalar>& x, bool at_end) const {
+  const Collider<Scalar>& collider = (*m_colliders)[k];
+  const RigidPose<Scalar>& pose = at_end ? m_bounds[k].end : m_bounds[k].start;
+  if (!collider.deforms()) return collider.query(x, pose);
+  const MeshSweep<Scalar>& sweep = *m_sweeps[k];
+  const typename MeshDistance<Scalar>::Closest c = (at_end ? sweep.end() : sweep.start()).closest(pose.to_local(x));
+  return {c.distance, pose.rotation * c.normal,
+          pose.point_velocity(x) + pose.rotation * sweep.surface_velocity(c.triangle, c.weights, m_dt)};
+}
+
+template <class Scalar>
+Scalar ContactHandler<Scalar>::first_contact(std::size_t k, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1,
+                                             Scalar offset) const {
+  const Collider<Scalar>& collider = (*m_colliders)[k];
+  const Bounds& b = m_bounds[k];
+  if (!collider.deforms()) return collider.first_contact(x0, b.start, x1, b.end, offset);
+  return m_sweeps[k]->first_contact(b.start.to_local(x0), b.end.to_local(x1), offset, detail::swept_tolerance(offset));
 }
 
 template <class Scalar>
@@ -190,15 +232,14 @@ bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<
   const Scalar half_travel = Scalar(0.5) * (x1 - x0).norm();
   for (std::size_t k = 0; k < colliders.size(); ++k) {
     if (!may_reach(k, x0, x1, middle, half_travel, offset)) continue;
-    const Scalar s = colliders[k].first_contact(x0, m_bounds[k].start, x1, m_bounds[k].end, offset);
+    const Scalar s = first_contact(k, x0, x1, offset);
     if (s >= 0 && s < first) {
       first = s;
       hit = static_cast<int>(k);
     }
   }
   if (hit < 0) return false;
-  const ColliderContact<Scalar> q =
-      colliders[static_cast<std::size_t>(hit)].query(x0, m_bounds[std::size_t(hit)].start);
+  const ColliderContact<Scalar> q = query(static_cast<std::size_t>(hit), x0, false);
   out = {node,     hit,        -1,
          q.normal, q.velocity, q.normal.dot(q.velocity) + (m_thickness - q.distance) / dt,
          Scalar(0)};
@@ -371,7 +412,7 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
     if (pinned[static_cast<std::size_t>(i)] != 0) continue;
     for (std::size_t k = 0; k < colliders.size(); ++k) {
       if (!may_reach(k, x_new.col(i), x_new.col(i), x_new.col(i), 0, h)) continue;
-      const ColliderContact<Scalar> q = colliders[k].query(x_new.col(i), m_bounds[k].end);
+      const ColliderContact<Scalar> q = query(k, x_new.col(i), true);
       if (q.distance >= h) continue;
       m_report.deepest = std::max(m_report.deepest, h - q.distance);
       if (q.distance >= h - tolerance) continue;
