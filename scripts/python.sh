@@ -20,9 +20,10 @@ fi
 pip=("$venv/bin/python" -m pip --disable-pip-version-check -q)
 # The build requirements of pyproject.toml, installed once so the build below needs no isolation,
 # and the sweep's (drape.sweep, docs/sweeps.md): pyarrow < 20 because later ones need numpy >= 2
-# and the venv uses Debian 12's numpy 1.24.
+# and the venv uses Debian 12's numpy 1.24. usd-core (Pixar's USD library) only for the tests: they
+# read drape-render's USD file with it (python/tests/test_usd_export.py).
 "${pip[@]}" install "scikit-build-core>=0.10" "nanobind>=2.2" pytest numpy matplotlib \
-  dask distributed "pyarrow<20" tqdm
+  dask distributed "pyarrow<20" tqdm usd-core
 # DRAPE_PYTHON_BUILD_DIR: build the module in that CMake tree (scripts/test.sh passes build/release),
 # with the tree's own options, so it links the objects already compiled there (the compiled
 # instances, the viewer and scene-file libraries are position-independent) instead of compiling them

@@ -108,3 +108,4 @@
 #include "drape/io/atomic_file.hpp"
 #include "drape/io/obj.hpp"
 #include "drape/io/state_io.hpp"
+#include "drape/io/usd.hpp"

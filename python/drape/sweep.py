@@ -60,7 +60,7 @@ _RECORD_KEYS = {"metrics", "final_state", "frames"}
 _RANDOM_SETTINGS = {"samples", "seed"}
 _RANDOM_PARAM_KEYS = {"range", "log"}
 # drape-render flags a sweep sets itself or that make no sense in a task.
-_RESERVED_FLAGS = {"scene", "out", "save-state", "obj", "video", "realtime", "realtime-factor",
+_RESERVED_FLAGS = {"scene", "out", "save-state", "obj", "usd", "video", "realtime", "realtime-factor",
                    "frames", "duration", "help"}
 
 

@@ -350,6 +350,10 @@ void bind_output(Bindings& bind, Settings& s) {
   bind.value("elevation", o.elevation, "camera elevation in degrees, [-85, 85] (< 0: from below)", output);
   bind.value("no-floor", o.no_floor, "do not draw the floor and the cloth's shadow", output);
   bind.value("obj", o.obj, "also write frame_NNNNN.obj (the mesh) for every frame", output);
+  bind.value("usd", o.usd,
+             "also write the animation of every cloth and collider to this .usda file (one USD file, one time "
+             "sample per frame; its folder must exist)",
+             output);
   bind.value("no-csv", o.no_csv, "do not write the per-frame log.csv", output);
   bind.value("save-state", o.save_state, "save the final state (positions, velocities, time) to this file", output);
   bind.value("video", o.video, "assemble the frames into a video (.mp4 .gif .webm .mkv) with ffmpeg", output);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
@@ -93,6 +94,24 @@ void validate(const Settings& s, const FileKeys& from_file) {
       fail("--video (extension)", "'" + ext + "'", ".mp4 | .gif | .webm | .mkv");
     if (find_on_path("ffmpeg").empty())
       throw SettingsError("--video needs ffmpeg on PATH, which is not installed (apt-get install ffmpeg)");
+  }
+  if (!o.usd.empty()) {
+    // Checked before anything runs: the file is written when the run ends.
+    const std::string name = from_file.keys.count("usd") ? "scene file '" + from_file.file + "': usd" : "--usd";
+    const std::filesystem::path file(o.usd);
+    if (file.extension() != ".usda")
+      fail(name + " (extension)", "'" + file.extension().string() + "'", ".usda (USD's text format)");
+    const std::filesystem::path folder = file.parent_path().empty() ? "." : file.parent_path();
+    // The --out folder is created when the run starts.
+    const auto normal = [](const std::filesystem::path& p) {
+      const std::filesystem::path n = p.lexically_normal();
+      return n.has_filename() ? n : n.parent_path();  // "frames/" as "frames"
+    };
+    const bool is_out = normal(folder) == normal(o.out);
+    std::error_code ec;
+    if (!is_out && !std::filesystem::is_directory(folder, ec))
+      fail(name, "'" + o.usd + "'", "a .usda file in an existing folder or in --out ('" + folder.string() +
+                                        "' is not a folder)");
   }
 }
 

@@ -350,6 +350,26 @@ TEST_CASE("read_settings: flags over the scene file; a bad flag is an error nami
   fs::remove_all(dir);
 }
 
+TEST_CASE("usd: a .usda file in an existing folder or in --out; errors name the flag or the key", "[scene_file]") {
+  const fs::path dir = fresh_dir("usd");
+  using Catch::Contains;
+  const std::string in_dir = (dir / "scene.usda").string();
+  CHECK(read_text(dir, "usd = \"" + in_dir + "\"\n").output.usd == in_dir);
+  CHECK(read_text(dir, "", {"--usd", in_dir}).output.usd == in_dir);
+  // In the --out folder, which drape-render creates.
+  const std::string out = (dir / "frames").string();
+  CHECK(error_of(dir, "", {"--out", out + "/", "--usd", out + "/scene.usda"}).empty());
+  CHECK_THAT(error_of(dir, "", {"--usd", (dir / "scene.usd").string()}),
+             Contains("--usd (extension) = '.usd' is invalid; allowed: .usda"));
+  CHECK_THAT(error_of(dir, "usd = \"" + (dir / "scene.obj").string() + "\"\n"),
+             Contains("scene.toml': usd (extension) = '.obj'") && Contains(".usda"));
+  CHECK_THAT(error_of(dir, "", {"--usd", (dir / "missing" / "scene.usda").string()}),
+             Contains("--usd = '") && Contains("missing") && Contains("existing folder"));
+  CHECK_THAT(error_of(dir, "usd = \"" + (dir / "missing" / "scene.usda").string() + "\"\n"),
+             Contains("scene.toml': usd = '") && Contains("existing folder"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("prepare_scene: every cloth, the start state, the air's force and the floor, without a renderer",
           "[scene_file]") {
   const fs::path dir = fresh_dir("prepare");

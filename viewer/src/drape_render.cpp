@@ -23,6 +23,7 @@
 #include "drape/integrators/make_integrator.hpp"
 #include "drape/io/obj.hpp"
 #include "drape/io/state_io.hpp"
+#include "drape/io/usd.hpp"
 #include "drape/model/cloth.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/drape_measures.hpp"
@@ -37,6 +38,7 @@
 #include "drape/viewer/cloth_shape.hpp"
 #include "drape/viewer/cloth_renderer.hpp"
 #include "drape/viewer/collider_mesh.hpp"
+#include "drape/viewer/collider_surface.hpp"
 #include "drape/viewer/offscreen_context.hpp"
 #include "drape/viewer/png.hpp"
 
@@ -223,6 +225,7 @@ class Run {
       if (drape::scene_file::is_floor(c, floor_y)) continue;
       m_solids.push_back({&c, drape::viewer::local_collider_mesh(c)});
     }
+    if (!s.output.usd.empty()) start_usd(framed);
   }
 
   /// Frames 0 .. n-1 at t0 + k frame_time, rounded to whole steps: rendering speed does not matter.
@@ -266,6 +269,11 @@ class Run {
       draw(between, previous_time + f.interpolation * (m_state.time - previous_time), done);
     }
     m_progress.finish();
+  }
+
+  /// Writes the USD file of the frames drawn (--usd), if asked for.
+  void finish_usd() {
+    if (m_usd) m_usd->finish();
   }
 
   const drape::Stated& state() const { return m_state; }
@@ -397,6 +405,37 @@ class Run {
     }
   }
 
+  /// The USD file's meshes (--usd): each cloth ("cloth", "cloth_1", ... in the order of ClothScene),
+  /// then each collider of the first cloth, the floor collider too, by its shape's name, a plane as
+  /// a square around the framed box. Its temporary file is made now: an unwritable folder stops the
+  /// run before the first step.
+  void start_usd(const drape::viewer::Bounds& framed) {
+    m_usd.emplace(m_s.output.usd, 1.0 / m_s.time.frame_time);
+    for (int k = 0; k < m_scene.cloth_count(); ++k)
+      m_usd_cloths.push_back(m_usd->add_mesh("cloth", m_scene.cloth(k).node_count(), m_scene.cloth(k).triangles(),
+                                             {true, std::array<float, 3>{0.8f, 0.25f, 0.2f}}));
+    const float half_size = std::max(1.0f, framed.size().norm());
+    for (const drape::Colliderd& c : m_cloth.colliders()) {
+      UsdCollider collider{&c, drape::viewer::local_collider_surface(c, framed.centre(), half_size, m_t0), -1};
+      const bool plane = c.kind() == drape::ShapeKind::Plane;
+      collider.mesh = m_usd->add_mesh(drape::to_string(c.kind()), Eigen::Index(collider.surface.points.size()),
+                                      collider.surface.triangles, {plane, std::array<float, 3>{0.6f, 0.6f, 0.6f}});
+      m_usd_colliders.push_back(std::move(collider));
+    }
+  }
+
+  /// The frame's sample of every mesh of the USD file: the cloths' `positions`, the colliders at `time`.
+  void add_usd_frame(const drape::Matrix3X<double>& positions, double time) {
+    for (int k = 0; k < m_scene.cloth_count(); ++k)
+      m_usd->set_points(m_usd_cloths[std::size_t(k)],
+                        positions.middleCols(m_scene.node_offset(k), m_scene.cloth(k).node_count()));
+    for (const UsdCollider& c : m_usd_colliders) {
+      drape::viewer::place_points(c.surface.points, c.collider->motion().pose(time), m_placed);
+      m_usd->set_points(c.mesh, m_placed);
+    }
+    m_usd->end_frame();
+  }
+
   static std::string seconds(double t) {
     char text[32];
     std::snprintf(text, sizeof text, "%.6g", t);
@@ -424,6 +463,7 @@ class Run {
     m_renderer.update_positions(positions);
     drape::viewer::write_png(frame_name(m_s.output.out, m_frame, "png"), m_renderer.render());
     if (m_s.output.obj) drape::write_obj(frame_name(m_s.output.out, m_frame, "obj"), positions, m_triangles);
+    if (m_usd) add_usd_frame(positions, time);
     const double wall = wall_seconds();
     const double factor = wall > m_previous_wall ? (m_state.time - m_previous_sim) / (wall - m_previous_wall) : 0.0;
     if (m_log.enabled()) {
@@ -473,6 +513,16 @@ class Run {
   std::vector<drape::viewer::SolidMesh> m_meshes;
   drape::Matrix3X<double> m_framed;  // nodes and colliders for the follow camera
   PinSchedule m_pin_schedule;        // the [[moving-pins]] tables, applied before each step
+  /// --usd: the writer, its cloth meshes (one per cloth of the scene) and its colliders.
+  std::optional<drape::UsdAnimationWriter> m_usd;
+  std::vector<int> m_usd_cloths;
+  struct UsdCollider {
+    const drape::Colliderd* collider;
+    drape::viewer::IndexedMesh surface;  // in its own frame
+    int mesh;
+  };
+  std::vector<UsdCollider> m_usd_colliders;
+  Eigen::Matrix3Xf m_placed;  // a collider's points at the frame's time
 };
 
 /// Runs ffmpeg on the frames; true on success.
@@ -528,6 +578,7 @@ int run(const Settings& s) {
   else
     run.offline();
 
+  run.finish_usd();
   if (!s.output.save_state.empty()) drape::save_state(s.output.save_state, run.state());
   if (s.output.cusick_disk > 0) {
     // The specimen's radius: half its rest shape's longest side (a disk's diameter).
@@ -546,11 +597,12 @@ int run(const Settings& s) {
     const std::size_t colliders = cloth.colliders().size();
     const std::string contact =
         colliders == 0 ? "" : ", " + std::to_string(colliders) + (colliders == 1 ? " collider" : " colliders");
-    std::fprintf(stderr, "drape-render: %d frames in '%s', t = %.4g s simulated in %.3g s (%lld steps, %s, %s%s%s)%s\n",
+    std::fprintf(stderr, "drape-render: %d frames in '%s', t = %.4g s simulated in %.3g s (%lld steps, %s, %s%s%s)%s%s\n",
                  run.frames_written(), s.output.out.c_str(), run.state().time, wall, run.steps(),
                  drape::to_string(s.integrator), s.time.realtime ? "real time" : "offline",
                  forces.empty() ? "" : (", with " + forces).c_str(), contact.c_str(),
-                 s.output.video.empty() ? "" : (", video " + s.output.video).c_str());
+                 s.output.video.empty() ? "" : (", video " + s.output.video).c_str(),
+                 s.output.usd.empty() ? "" : (", USD " + s.output.usd).c_str());
   }
   return 0;
 }

@@ -59,6 +59,9 @@ struct Output {
   double azimuth = 25, elevation = 15;
   bool no_floor = false;
   bool obj = false;
+  /// --usd FILE.usda: the animation of every cloth and collider as one USD file (drape/io/usd.hpp),
+  /// written when the run ends; empty: none.
+  std::string usd;
   bool no_csv = false;
   std::string save_state;
   std::string video;
