@@ -3,9 +3,10 @@
 /// set-up included: the default cloth's material refined to n x n nodes over the same 3.2 m square
 /// (as drape_refinement scales it), two corners pinned, simulated for 0.5 s at dt = 1/60 from the
 /// flat cloth at rest; then the next step's system (spd Jacobian, pins eliminated) and per
-/// preconditioner: analyze() (for amg: aggregation, every pattern and the first values), one update
-/// (values only, every step), one application z = B r, and CG from zero to the integrator's default
-/// tolerance: iterations and time (the update included, as in a step). Median of R repetitions.
+/// preconditioner: analyze() (for amg and amg-float: aggregation, every pattern and the first
+/// values), one update (values only, every step), one application z = B r, and CG from zero to the
+/// integrator's default tolerance: iterations and time (the update included, as in a step). Median
+/// of R repetitions.
 /// Prints a markdown table (docs/amg.md).
 ///
 ///   build/bench/drape_amg_cost [n ...] [--threads T] [--repetitions R]
@@ -98,8 +99,9 @@ int main(int argc, char** argv) {
     const drape::VectorX<double> r = drape::VectorX<double>::Ones(system.size());
     drape::VectorX<double> z(system.size());
     for (const drape::PreconditionerKind kind :
-         {drape::PreconditionerKind::AlgebraicMultigrid, drape::PreconditionerKind::Multigrid,
-          drape::PreconditionerKind::MultigridFloat, drape::PreconditionerKind::BlockJacobi}) {
+         {drape::PreconditionerKind::AlgebraicMultigrid, drape::PreconditionerKind::AlgebraicMultigridFloat,
+          drape::PreconditionerKind::Multigrid, drape::PreconditionerKind::MultigridFloat,
+          drape::PreconditionerKind::BlockJacobi}) {
       std::unique_ptr<drape::Preconditioner<double>> p = drape::make_preconditioner<double>(kind);
       const double analyze = median_seconds(repetitions, [&] { p->analyze(system); });
       const double update =

@@ -7,13 +7,18 @@
 /// grid: its corners (0, 0) and (n - 1, 0)), released flat.
 ///
 /// Per cloth: the implicit step at dt = 1/60 with its default solver (CG with the float geometric
-/// multigrid on the grid, the algebraic multigrid on the disk, chosen automatically), the time of
-/// the first step with the integrator's set-up and of S later steps, CG iterations per step; on the
-/// grid also with `amg`. The symplectic step at a dt stable for both (0.2 sqrt(m / ks) of the
-/// lightest node and stiffest spring), per step over 200 steps. Median over R repetitions. Prints
-/// a markdown table (docs/mesh.md).
+/// multigrid on the grid, the float algebraic multigrid `amg-float` on the disk, chosen
+/// automatically), the time of the first step with the integrator's set-up and of S later steps, CG
+/// iterations per step; on the grid also with `amg`. The symplectic step at a dt stable for both
+/// (0.2 sqrt(m / ks) of the lightest node and stiffest spring), per step over 200 steps. Median over
+/// R repetitions. Prints a markdown table (docs/mesh.md).
 ///
-///   build/bench/drape_mesh_step [n ...] [--steps S] [--threads T] [--repetitions R]
+/// With `--preconditioner P` (repeatable): instead, the implicit step of the disk and of the grid
+/// with each P named (`amg`, `amg-float`, ...; a geometric one gives way to its algebraic
+/// counterpart on the disk), the preconditioners taking turns within each repetition, so a load
+/// on the machine falls on all of them alike (docs/amg.md).
+///
+///   build/bench/drape_mesh_step [n ...] [--steps S] [--threads T] [--repetitions R] [--preconditioner P]...
 ///
 /// Defaults: n = 32 64 128 256, S = 30, T = 1, R = 3.
 
@@ -36,6 +41,7 @@ namespace {
 
 struct Options {
   std::vector<int> sizes;
+  std::vector<drape::PreconditionerKind> preconditioners;  // empty: the default table
   int steps = 30, threads = 1, repetitions = 3;
 };
 
@@ -75,33 +81,46 @@ struct ImplicitRun {
   bool ok = true;
 };
 
+/// One run: the integrator made and its first step, timed together, then S steps.
+void implicit_once(const drape::Cloth<double>& cloth, const Options& o, drape::PreconditionerKind preconditioner,
+                   std::vector<double>& firsts, std::vector<double>& steps, ImplicitRun& out) {
+  drape::ImplicitOptions options;
+  options.dt = 1.0 / 60;
+  options.threads = o.threads;
+  options.preconditioner = preconditioner;
+  drape::State<double> s = cloth.initial_state();
+  auto start = std::chrono::steady_clock::now();
+  drape::ImplicitEuler<double> integrator(cloth, options);
+  out.ok = out.ok && integrator.step(s).ok();
+  firsts.push_back(seconds_since(start));
+  long long iterations = 0;
+  start = std::chrono::steady_clock::now();
+  for (int k = 0; k < o.steps; ++k) {
+    const drape::StepStatus status = integrator.step(s);
+    out.ok = out.ok && status.ok();
+    iterations += status.iterations;
+  }
+  steps.push_back(seconds_since(start) / o.steps);
+  out.iterations = double(iterations) / o.steps;
+}
+
+/// R runs of `cloth` with each of `kinds`, the kinds taking turns within each repetition; medians.
+std::vector<ImplicitRun> implicit_runs(const drape::Cloth<double>& cloth, const Options& o,
+                                       const std::vector<drape::PreconditionerKind>& kinds) {
+  std::vector<ImplicitRun> out(kinds.size());
+  std::vector<std::vector<double>> firsts(kinds.size()), steps(kinds.size());
+  for (int r = 0; r < o.repetitions; ++r)
+    for (std::size_t k = 0; k < kinds.size(); ++k) implicit_once(cloth, o, kinds[k], firsts[k], steps[k], out[k]);
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    out[k].first_step = median(firsts[k]);
+    out[k].step = median(steps[k]);
+  }
+  return out;
+}
+
 ImplicitRun implicit_run(const drape::Cloth<double>& cloth, const Options& o,
                          drape::PreconditionerKind preconditioner) {
-  std::vector<double> firsts, steps;
-  ImplicitRun out;
-  for (int r = 0; r < o.repetitions; ++r) {
-    drape::ImplicitOptions options;
-    options.dt = 1.0 / 60;
-    options.threads = o.threads;
-    options.preconditioner = preconditioner;
-    drape::State<double> s = cloth.initial_state();
-    auto start = std::chrono::steady_clock::now();
-    drape::ImplicitEuler<double> integrator(cloth, options);
-    out.ok = out.ok && integrator.step(s).ok();
-    firsts.push_back(seconds_since(start));
-    long long iterations = 0;
-    start = std::chrono::steady_clock::now();
-    for (int k = 0; k < o.steps; ++k) {
-      const drape::StepStatus status = integrator.step(s);
-      out.ok = out.ok && status.ok();
-      iterations += status.iterations;
-    }
-    steps.push_back(seconds_since(start) / o.steps);
-    out.iterations = double(iterations) / o.steps;
-  }
-  out.first_step = median(firsts);
-  out.step = median(steps);
-  return out;
+  return implicit_runs(cloth, o, {preconditioner})[0];
 }
 
 /// 0.2 sqrt(m / ks) for the lightest node and the stiffest spring.
@@ -132,16 +151,44 @@ int main(int argc, char** argv) {
     if (a == "--steps" && k + 1 < argc) o.steps = std::atoi(argv[++k]);
     else if (a == "--threads" && k + 1 < argc) o.threads = std::atoi(argv[++k]);
     else if (a == "--repetitions" && k + 1 < argc) o.repetitions = std::atoi(argv[++k]);
-    else if (!a.empty() && a[0] != '-') o.sizes.push_back(std::atoi(a.c_str()));
+    else if (a == "--preconditioner" && k + 1 < argc) {
+      drape::PreconditionerKind kind{};
+      if (!drape::try_parse(argv[++k], kind)) {
+        std::fprintf(stderr, "%s: --preconditioner '%s': expected %s\n", argv[0], argv[k],
+                     drape::joined_names<drape::PreconditionerKind>().c_str());
+        return 2;
+      }
+      o.preconditioners.push_back(kind);
+    } else if (!a.empty() && a[0] != '-') o.sizes.push_back(std::atoi(a.c_str()));
     else {
-      std::fprintf(stderr, "usage: %s [n ...] [--steps S] [--threads T] [--repetitions R]\n", argv[0]);
+      std::fprintf(stderr,
+                   "usage: %s [n ...] [--steps S] [--threads T] [--repetitions R] [--preconditioner P]...\n",
+                   argv[0]);
       return 2;
     }
   }
   if (o.sizes.empty()) o.sizes = {32, 64, 128, 256};
   std::printf("implicit dt = 1/60, %d steps after the first, %d thread(s), median of %d\n\n", o.steps, o.threads,
               o.repetitions);
-  std::printf("| vertices disk / grid | implicit step disk / grid (ratio) | CG iterations disk (amg) / grid "
+  if (!o.preconditioners.empty()) {
+    std::printf("| vertices disk / grid | preconditioner | CG iterations disk / grid | implicit step disk / grid | "
+                "first step with set-up disk / grid |\n|---|---|---|---|---|\n");
+    for (const int n : o.sizes) {
+      const drape::Cloth<double> grid(drape_bench::refined_default_spec(n)), disk(disk_spec(n));
+      const std::vector<ImplicitRun> d = implicit_runs(disk, o, o.preconditioners);
+      const std::vector<ImplicitRun> g = implicit_runs(grid, o, o.preconditioners);
+      for (std::size_t k = 0; k < o.preconditioners.size(); ++k) {
+        std::printf("| %d / %d | %s | %.1f / %.1f | %s / %s%s | %s / %s |\n", disk.node_count(), grid.node_count(),
+                    drape::to_string(o.preconditioners[k]), d[k].iterations, g[k].iterations,
+                    drape_bench::duration(d[k].step).c_str(), drape_bench::duration(g[k].step).c_str(),
+                    d[k].ok && g[k].ok ? "" : " (a step failed)", drape_bench::duration(d[k].first_step).c_str(),
+                    drape_bench::duration(g[k].first_step).c_str());
+      }
+      std::fflush(stdout);
+    }
+    return 0;
+  }
+  std::printf("| vertices disk / grid | implicit step disk / grid (ratio) | CG iterations disk (amg-float) / grid "
               "(multigrid-float, amg) | first step with set-up disk / grid | symplectic step disk / grid (ratio) "
               "|\n|---|---|---|---|---|\n");
   for (const int n : o.sizes) {

@@ -85,6 +85,7 @@
 #include "drape/solvers/single_precision_multigrid.hpp"
 #include "drape/solvers/aggregation_hierarchy.hpp"
 #include "drape/solvers/algebraic_multigrid.hpp"
+#include "drape/solvers/single_precision_algebraic_multigrid.hpp"
 #include "drape/solvers/make_preconditioner.hpp"
 #include "drape/solvers/pcg.hpp"
 #include "drape/solvers/bicgstab.hpp"

@@ -36,7 +36,7 @@
 #endif
 
 /// The linear algebra and the solvers. A double program needs them for float too: the
-/// single-precision multigrid preconditioner runs float ones inside the double solve.
+/// single-precision multigrid preconditioners run float ones inside the double solve.
 #define DRAPE_SOLVER_INSTANCES(HOW, S)                                                          \
   HOW class BlockSparseMatrix<S>;                                                               \
   HOW class ConstraintFilter<S>;                                                                \
@@ -46,6 +46,7 @@
   HOW class SinglePrecisionMultigrid<S>;                                                        \
   HOW class AggregationHierarchy<S>;                                                            \
   HOW class AlgebraicMultigrid<S>;                                                              \
+  HOW class SinglePrecisionAlgebraicMultigrid<S>;                                               \
   HOW class PcgSolver<S>;                                                                       \
   HOW class BicgstabSolver<S>;                                                                  \
   HOW class detail::DirectSolver<S, LinearSolverKind::Ldlt, detail::EigenLdltBackend<S>>;       \

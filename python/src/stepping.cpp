@@ -183,7 +183,9 @@ void bind_options(nb::module_& m) {
       .def_prop_rw(
           "preconditioner", [](const Options& o) { return std::string(drape::to_string(o.preconditioner)); },
           [](Options& o, const std::string& n) { o.preconditioner = drape::parse<drape::PreconditionerKind>(n); },
-          "cg's preconditioner: 'multigrid-float' (default: the V-cycle in single precision inside the double CG), 'multigrid' or 'block-jacobi'.")
+          "cg's preconditioner: 'multigrid-float' (default: the V-cycle in single precision inside the double CG), "
+          "'multigrid', 'block-jacobi', 'amg' or 'amg-float' (the algebraic V-cycle, in double or in single "
+          "precision; a mesh cloth takes it for 'multigrid' or 'multigrid-float').")
       .def_rw("tolerance", &Options::tolerance, "Relative residual of the iterative solvers, (0, 1).")
       .def_rw("max_iterations", &Options::max_iterations, "Iteration cap of the iterative solvers, >= 1.")
       .def_prop_rw(

@@ -29,7 +29,7 @@ void require_round_trip(const std::vector<std::string>& expected_names) {
 TEST_CASE("every option enum parses and prints its names", "[enum_names]") {
   require_round_trip<JacobianVariant>({"exact", "symmetric", "spd"});
   require_round_trip<PinTreatment>({"eliminate", "filter"});
-  require_round_trip<PreconditionerKind>({"multigrid", "multigrid-float", "block-jacobi", "amg"});
+  require_round_trip<PreconditionerKind>({"multigrid", "multigrid-float", "block-jacobi", "amg", "amg-float"});
   require_round_trip<LinearSolverKind>({"cg", "bicgstab", "ldlt", "lu", "cholmod", "umfpack"});
   require_round_trip<IntegratorKind>({"rk2", "implicit", "symplectic"});
   require_round_trip<BoundaryCondition>({"one-corner", "two-corners"});

@@ -86,6 +86,8 @@ TEST_CASE("ImplicitEuler::step does not allocate after warm-up (PCG, one thread)
   CHECK(allocations_in_steps(cloth, o, 2, 5) == 0);
   o.preconditioner = PreconditionerKind::AlgebraicMultigrid;  // its hierarchy is built in the first step
   CHECK(allocations_in_steps(cloth, o, 2, 5) == 0);
+  o.preconditioner = PreconditionerKind::AlgebraicMultigridFloat;
+  CHECK(allocations_in_steps(cloth, o, 2, 5) == 0);
   o.solver = LinearSolverKind::Bicgstab;
   CHECK(allocations_in_steps(cloth, o, 2, 5) == 0);
 }
@@ -100,5 +102,7 @@ TEST_CASE("ImplicitEuler::step does not allocate after warm-up (PCG, two threads
   o.preconditioner = PreconditionerKind::MultigridFloat;
   CHECK(allocations_in_steps(cloth, o, 1, 1) == 0);
   o.preconditioner = PreconditionerKind::AlgebraicMultigrid;
+  CHECK(allocations_in_steps(cloth, o, 1, 1) == 0);
+  o.preconditioner = PreconditionerKind::AlgebraicMultigridFloat;
   CHECK(allocations_in_steps(cloth, o, 1, 1) == 0);
 }

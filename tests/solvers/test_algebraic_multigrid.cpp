@@ -2,7 +2,8 @@
 // Galerkin levels and filtered coarse spaces, the symmetric positive definite V-cycle, CG to the
 // direct solution with and without constraints, iterations that stay nearly flat as an irregular
 // mesh is refined, units that do not matter, and the same bits for any team size. Systems come from
-// a lattice cloth (JacobianAssembler) and from a spring cloth on an irregular triangulation.
+// a lattice cloth (JacobianAssembler) and from a spring cloth on an irregular triangulation. The
+// same V-cycle in float inside the double CG (single_precision_algebraic_multigrid.hpp, amg-float).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 
 #include <Eigen/SparseCore>
 
+#include "drape/core/mesh_generators.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/physics/jacobian_assembler.hpp"
@@ -22,6 +24,7 @@
 #include "drape/solvers/algebraic_multigrid.hpp"
 #include "drape/solvers/eigen_direct.hpp"
 #include "drape/solvers/pcg.hpp"
+#include "drape/solvers/single_precision_algebraic_multigrid.hpp"
 #include "drape/solvers/solver_registry.hpp"
 #include "support/dense.hpp"
 #include "test_common.hpp"
@@ -205,7 +208,7 @@ VectorX<double> direct(const LinearSystem<double>& system) {
 }
 
 template <class S>
-bool update(AlgebraicMultigrid<S>& amg, const LinearSystem<S>& system, int threads = 1) {
+bool update(Preconditioner<S>& amg, const LinearSystem<S>& system, int threads = 1) {
   bool ok = false;
   run_in_team(threads, [&] {
     const bool mine = amg.update_in_team(system);
@@ -215,7 +218,7 @@ bool update(AlgebraicMultigrid<S>& amg, const LinearSystem<S>& system, int threa
 }
 
 template <class S>
-VectorX<S> apply(AlgebraicMultigrid<S>& amg, const VectorX<S>& r, int threads = 1) {
+VectorX<S> apply(Preconditioner<S>& amg, const VectorX<S>& r, int threads = 1) {
   VectorX<S> z(r.size());
   run_in_team(threads, [&] { amg.apply_in_team(r.data(), z.data()); });
   return z;
@@ -658,4 +661,185 @@ TEST_CASE("amg: chosen by name, needs no lattice, and steps an implicit cloth wi
   REQUIRE(amg.status.ok());
   REQUIRE(jacobi.status.ok());
   CHECK((amg.x - jacobi.x).norm() <= 1e-7 * jacobi.x.norm());
+}
+
+TEST_CASE("amg-float: CG reaches the double tolerance and the direct answer in amg's iterations", "[amg][mixed]") {
+  // The float V-cycle inside the double CG: CG's residual, iterate and product with A stay double,
+  // so it stops at the same tolerance; the cycle's rounding may cost an iteration or two.
+  IrregularProblem<double> irregular(32, 6u);
+  irregular.constrain();
+  GridProblem<double> grid(33, PinTreatment::Filter);
+  for (const LinearSystem<double>* system : {&irregular.system, &grid.system}) {
+    const Solve<double> mixed = pcg(*system, PreconditionerKind::AlgebraicMultigridFloat, 1e-10);
+    const Solve<double> full = pcg(*system, PreconditionerKind::AlgebraicMultigrid, 1e-10);
+    INFO((system == &grid.system ? "lattice, filtered pins" : "irregular, pins and contacts")
+         << ": amg-float " << mixed.status.iterations << " iterations, amg " << full.status.iterations);
+    REQUIRE(mixed.status.ok());
+    REQUIRE(full.status.ok());
+    CHECK(mixed.status.residual <= 1e-10);  // CG's residual, in double
+    CHECK(mixed.status.iterations <= full.status.iterations + 2);
+    const VectorX<double> exact = direct(*system);
+    CHECK((mixed.x - exact).norm() <= 1e-7 * exact.norm());
+    const ConstraintFilter<double>& c = system->constraints;
+    int constrained = 0;
+    for (int r = 0; r < system->block_rows(); ++r) {
+      const Vec3<double> xr = mixed.x.segment<3>(3 * r);
+      if (c.kind(r) == ConstraintKind::Fixed) CHECK(xr.norm() == 0.0);
+      if (c.kind(r) == ConstraintKind::Projected)
+        CHECK(((Mat3<double>::Identity() - c.filter(r)) * xr).norm() <= 1e-12 * (1 + xr.norm()));
+      constrained += c.kind(r) != ConstraintKind::Free;
+    }
+    CHECK(constrained >= 2);
+  }
+}
+
+TEST_CASE("amg-float: the float cycle is amg's to float accuracy, symmetric and positive definite",
+          "[amg][mixed]") {
+  IrregularProblem<double> p(32, 3u);
+  p.constrain();
+  AlgebraicMultigrid<double> full;
+  SinglePrecisionAlgebraicMultigrid<double> mixed;
+  full.analyze(p.system);
+  mixed.analyze(p.system);
+  REQUIRE(mixed.cycle().built());  // aggregated from the rounded values at analyze()
+  REQUIRE(update(full, p.system));
+  REQUIRE(update(mixed, p.system));
+  REQUIRE(mixed.cycle().level_rows() == full.level_rows());
+  REQUIRE(mixed.single_system().constraints.constrained_rows() == p.system.constraints.constrained_rows());
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    INFO("seed " << seed);
+    const VectorX<double> u = random_vector(p.nodes, seed), v = random_vector(p.nodes, seed + 100);
+    const VectorX<double> bu = apply(mixed, u), bv = apply(mixed, v);
+    const VectorX<double> exact = apply(full, u);
+    CHECK((bu - exact).norm() <= 1e-4 * exact.norm());
+    CHECK((bu - exact).norm() > 0);  // it did run in float
+    CHECK(std::abs(u.dot(bv) - v.dot(bu)) <= 1e-5 * std::abs(u.dot(bv)));
+    CHECK(u.dot(bu) > 0);
+  }
+}
+
+TEST_CASE("amg-float: one and two threads give the same bits", "[amg][mixed][threads]") {
+  // Eliminated pins: the fine level reads the float edge form; filtered pins and contacts on a
+  // third of the cloth: the filtered block rows. Levels 0 and 1 are shared by the team.
+  for (const PinTreatment pins : {PinTreatment::Eliminate, PinTreatment::Filter}) {
+    GridProblem<double> p(129, pins);
+    if (pins == PinTreatment::Filter) {
+      const Mat3<double> plane = Mat3<double>::Identity() - Vec3<double>(0, 1, 0) * Vec3<double>(0, 1, 0).transpose();
+      for (int r = 0; r < p.system.block_rows() / 3; ++r)
+        if (p.system.constraints.kind(r) == ConstraintKind::Free)
+          p.system.constraints.constrain(r, plane, Vec3<double>::Zero());
+    }
+    INFO((pins == PinTreatment::Filter ? "filtered pins and contacts" : "eliminated pins"));
+    SinglePrecisionAlgebraicMultigrid<double> one, two;
+    one.analyze(p.system);
+    two.analyze(p.system);
+    REQUIRE(update(one, p.system, 1));
+    REQUIRE(update(two, p.system, 2));
+    CHECK(two.single_system().edges.valid() == (pins == PinTreatment::Eliminate));
+    REQUIRE(one.cycle().level_rows() == two.cycle().level_rows());
+    REQUIRE(two.cycle().level_rows()[1] >= two.cycle().settings().min_team_rows);
+    for (int l = 0; l < one.cycle().level_count(); ++l) {
+      INFO("level " << l);
+      const BlockSparseMatrix<float>& a = one.cycle().level_matrix(l);
+      const BlockSparseMatrix<float>& b = two.cycle().level_matrix(l);
+      CHECK(std::equal(a.values(), a.values() + 9 * a.block_count(), b.values()));
+      CHECK(one.cycle().smoother_omega(l) == two.cycle().smoother_omega(l));
+    }
+    const VectorX<double> r = random_vector(p.system.block_rows(), 21u);
+    const VectorX<double> z1 = apply(one, r, 1);
+    CHECK(apply(two, r, 2) == z1);
+    CHECK(apply(one, r, 2) == z1);
+    const Solve<double> s2 = pcg(p.system, PreconditionerKind::AlgebraicMultigridFloat, 1e-8, 2);
+    const Solve<double> again = pcg(p.system, PreconditionerKind::AlgebraicMultigridFloat, 1e-8, 2);
+    REQUIRE(s2.status.ok());
+    CHECK(s2.x == again.x);
+  }
+}
+
+TEST_CASE("amg-float: a system analyzed before its values gets the hierarchy of one analyzed after", "[amg][mixed]") {
+  GridProblem<double> assembled(33, PinTreatment::Filter);
+  Cloth<double> cloth([] {
+    ClothSpec<double> spec;
+    spec.nx = spec.ny = 33;
+    return spec;
+  }());
+  JacobianAssembler<double> assembler(cloth, PinTreatment::Filter, 1);
+  LinearSystem<double> system = assembler.make_system();
+  SinglePrecisionAlgebraicMultigrid<double> late, early;
+  late.analyze(system);
+  CHECK_FALSE(late.cycle().built());
+  early.analyze(assembled.system);
+  CHECK(early.cycle().built());
+  Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 8u);
+  for (int p : cloth.pins().nodes()) v.col(p).setZero();
+  assembler.assemble_system(test::jiggled_positions(cloth, 0.05, 7u), v, 0, 1.0 / 60, JacobianVariant::Spd, system);
+  REQUIRE(update(late, system, 2));
+  REQUIRE(update(early, assembled.system));
+  REQUIRE(late.cycle().level_rows() == early.cycle().level_rows());
+  const VectorX<double> r = random_vector(system.block_rows(), 5u);
+  CHECK(apply(late, r) == apply(early, r));
+}
+
+TEST_CASE("amg-float: chosen by name, and what a mesh cloth gets for the float geometric multigrid",
+          "[amg][mixed][integration]") {
+  CHECK(parse<PreconditionerKind>("amg-float") == PreconditionerKind::AlgebraicMultigridFloat);
+  CHECK_FALSE(needs_grid_layout(PreconditionerKind::AlgebraicMultigridFloat));
+  IterativeSettings settings;
+  settings.preconditioner = PreconditionerKind::AlgebraicMultigridFloat;
+  const std::unique_ptr<LinearSolver<double>> solver = make_linear_solver<double>("cg", settings);
+  const auto* cg = dynamic_cast<const PcgSolver<double>*>(solver.get());
+  REQUIRE(cg);
+  CHECK(dynamic_cast<const SinglePrecisionAlgebraicMultigrid<double>*>(&cg->preconditioner()));
+  PcgSolver<float> single(settings);  // already in float: the plain cycle
+  CHECK(dynamic_cast<const AlgebraicMultigrid<float>*>(&single.preconditioner()));
+  // Without a lattice layout the geometric kinds give way: multigrid to amg, multigrid-float to
+  // amg-float.
+  GridProblem<double> p(17, PinTreatment::Eliminate);
+  p.system.layout = GridLayout{};
+  for (const PreconditionerKind geometric : {PreconditionerKind::Multigrid, PreconditionerKind::MultigridFloat}) {
+    settings.preconditioner = geometric;
+    PcgSolver<double> chosen(settings);
+    chosen.analyze(p.system);
+    const bool float_cycle = dynamic_cast<const SinglePrecisionAlgebraicMultigrid<double>*>(&chosen.preconditioner());
+    const bool double_cycle = dynamic_cast<const AlgebraicMultigrid<double>*>(&chosen.preconditioner());
+    CHECK(float_cycle == (geometric == PreconditionerKind::MultigridFloat));
+    CHECK(double_cycle == (geometric == PreconditionerKind::Multigrid));
+  }
+
+  // A disk mesh of about 2300 vertices hanging from two pins, its default solver against amg: the
+  // fine level is shared by the team and reads the float edge form.
+  ClothSpec<double> spec;
+  spec.mesh = disk_mesh(1.0, 0.04);
+  spec.areal_density = 3.0;
+  spec.springs.shear = {0, 0};
+  spec.pinned_nodes = std::vector<int>{0, 1};
+  const Cloth<double> cloth(spec);
+  REQUIRE(cloth.node_count() >= AlgebraicMultigridSettings{}.min_team_rows);
+  ImplicitOptions options;
+  options.dt = 1.0 / 60;
+  options.threads = 1;
+  ImplicitEuler<double> mixed(cloth, options);
+  options.preconditioner = PreconditionerKind::AlgebraicMultigrid;
+  ImplicitEuler<double> full(cloth, options);
+  State<double> a = cloth.initial_state(), b = cloth.initial_state();
+  int mixed_iterations = 0, full_iterations = 0;
+  for (int k = 0; k < 6; ++k) {
+    const StepStatus sa = mixed.step(a), sb = full.step(b);
+    REQUIRE(sa.ok());
+    REQUIRE(sb.ok());
+    mixed_iterations += sa.iterations;
+    full_iterations += sb.iterations;
+  }
+  const auto* mesh_cg = dynamic_cast<const PcgSolver<double>*>(&mixed.solver());
+  REQUIRE(mesh_cg);
+  const auto* chosen = dynamic_cast<const SinglePrecisionAlgebraicMultigrid<double>*>(&mesh_cg->preconditioner());
+  REQUIRE(chosen);
+  CHECK(chosen->single_system().edges.valid());
+  const double apart = (a.positions - b.positions).norm();
+  const double moved = (b.positions - cloth.initial_state().positions).norm();
+  INFO("amg-float " << mixed_iterations << " iterations in 6 steps, amg " << full_iterations
+                    << "; positions apart " << apart << " m, moved " << moved << " m");
+  CHECK(mixed_iterations <= full_iterations + 6);
+  CHECK(apart <= 1e-5 * moved);  // measured 2.7e-7: CG stops at 1e-6 of the residual
+  CHECK(apart > 0);  // the float cycle did run
 }

@@ -89,7 +89,7 @@ TEST_CASE("drape-render rejects bad values before any work, naming the flag and 
       {"--integrator implicit --solver magic", "--solver", "cg"},
       {"--integrator implicit --solver magic", "--solver", "ldlt"},  // the opt-in solvers are offered
       {"--integrator implicit --preconditioner ilu", "--preconditioner",
-       "multigrid | multigrid-float | block-jacobi | amg"},
+       "multigrid | multigrid-float | block-jacobi | amg | amg-float"},
       {"--realtime --realtime-factor 0", "--realtime-factor", "> 0"},
       {"--realtime --max-steps-per-frame 0", "--max-steps-per-frame", "[1, 100000000]"},
       {"--width 8", "--width", "[16, 8192]"},

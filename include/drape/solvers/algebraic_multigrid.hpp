@@ -71,6 +71,15 @@ class AlgebraicMultigrid final : public Preconditioner<Scalar> {
   Scalar smoother_omega(int l) const { return m_omega[static_cast<std::size_t>(l)]; }
   /// Blocks stored over all levels divided by the fine matrix's (the operator complexity).
   double operator_complexity() const;
+  /// True if an update and the cycles for `system` (or for its copy in another precision) may read
+  /// its edge form: they do where the team shares the fine level of a hierarchy of two levels or
+  /// more and there are no constraints (before the hierarchy is built, whatever its levels). A float
+  /// copy of the system rounds its edge values only then (single_precision_algebraic_multigrid.hpp).
+  template <class SystemScalar>
+  bool reads_edge_form(const LinearSystem<SystemScalar>& system) const {
+    return system.edges.valid() && system.constraints.empty() && system.block_rows() >= m_settings.min_team_rows &&
+           (!built() || level_count() > 1);
+  }
 
  private:
   struct LevelVectors {

@@ -10,12 +10,14 @@
 #include "drape/solvers/block_jacobi.hpp"
 #include "drape/solvers/multigrid.hpp"
 #include "drape/solvers/preconditioner.hpp"
+#include "drape/solvers/single_precision_algebraic_multigrid.hpp"
 #include "drape/solvers/single_precision_multigrid.hpp"
 
 namespace drape {
 
-/// A new preconditioner of `kind` for a `Scalar` solve. MultigridFloat in a float solve is the plain
-/// V-cycle (it is already in float). `multigrid` configures the geometric kinds, `amg` the algebraic one.
+/// A new preconditioner of `kind` for a `Scalar` solve. MultigridFloat and AlgebraicMultigridFloat in
+/// a float solve are the plain V-cycles (they are already in float). `multigrid` configures the
+/// geometric kinds, `amg` the algebraic ones.
 template <class Scalar = double>
 std::unique_ptr<Preconditioner<Scalar>> make_preconditioner(PreconditionerKind kind,
                                                             const MultigridSettings& multigrid = {},
@@ -28,6 +30,11 @@ std::unique_ptr<Preconditioner<Scalar>> make_preconditioner(PreconditionerKind k
       else
         return std::make_unique<SinglePrecisionMultigrid<Scalar>>(multigrid);
     case PreconditionerKind::AlgebraicMultigrid: return std::make_unique<AlgebraicMultigrid<Scalar>>(amg);
+    case PreconditionerKind::AlgebraicMultigridFloat:
+      if constexpr (std::is_same_v<Scalar, float>)
+        return std::make_unique<AlgebraicMultigrid<Scalar>>(amg);
+      else
+        return std::make_unique<SinglePrecisionAlgebraicMultigrid<Scalar>>(amg);
     case PreconditionerKind::BlockJacobi: break;
   }
   return std::make_unique<BlockJacobi<Scalar>>();

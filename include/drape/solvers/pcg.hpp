@@ -2,8 +2,8 @@
 /// \file pcg.hpp
 /// Preconditioned conjugate gradients on the filtered system (Baraff & Witkin 1998, section 5.3),
 /// warm-started from the caller's `x` (the previous step's dv). The preconditioner
-/// (IterativeSettings::preconditioner) is block Jacobi, the geometric multigrid V-cycle (in the
-/// solve's precision or in float) or the algebraic one, behind one interface (preconditioner.hpp,
+/// (IterativeSettings::preconditioner) is block Jacobi, the geometric multigrid V-cycle or the
+/// algebraic one (each in the solve's precision or in float), behind one interface (preconditioner.hpp,
 /// made by make_preconditioner.hpp), so there is one CG loop:
 /// \f[ x \leftarrow S x + z,\quad r = S(b - A x),\quad p = S B r; \qquad
 ///     q = S A p,\; \alpha = \frac{r \cdot B r}{p \cdot q},\; x \mathrel{+}= \alpha p,\; r \mathrel{-}= \alpha q,\;
@@ -39,13 +39,16 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
   /// Block rows per thread below which a second thread is not woken.
   static constexpr long long min_rows_per_thread = 3000;
 
-  /// `multigrid`: the V-cycle's settings if settings.preconditioner is multigrid; `amg` the
-  /// algebraic V-cycle's if it is amg.
+  /// `multigrid`: the V-cycle's settings if settings.preconditioner is a geometric multigrid; `amg`
+  /// the algebraic V-cycle's if it is amg or amg-float, or a geometric one on a system without a
+  /// lattice.
   explicit PcgSolver(const IterativeSettings& settings = {}, const MultigridSettings& multigrid = {},
                      const AlgebraicMultigridSettings& amg = {});
 
   /// A system without a lattice layout (a cloth that is not a grid) takes the algebraic multigrid
-  /// (algebraic_multigrid.hpp) where a geometric multigrid was chosen.
+  /// where a geometric multigrid was chosen, in the same precision: `multigrid` gives `amg`
+  /// (algebraic_multigrid.hpp), `multigrid-float` `amg-float`
+  /// (single_precision_algebraic_multigrid.hpp).
   /// \throws InvalidParameter if the layout does not match the system's matrix.
   void analyze(const LinearSystem<Scalar>& system) override;
   SolveStatus solve(const LinearSystem<Scalar>& system, VectorX<Scalar>& x) override;
@@ -60,7 +63,7 @@ class PcgSolver final : public detail::BuiltInSolver<Scalar, LinearSolverKind::C
   };
 
   IterativeSettings m_settings;
-  AlgebraicMultigridSettings m_amg;  // for a system without a lattice where multigrid was chosen
+  AlgebraicMultigridSettings m_amg;  // for a system without a lattice where a geometric multigrid was chosen
   std::unique_ptr<Preconditioner<Scalar>> m_preconditioner;
   VectorX<Scalar> m_r, m_z, m_p, m_q;
   Index m_analyzed = -1;
@@ -80,10 +83,12 @@ template <class Scalar>
 void PcgSolver<Scalar>::analyze(const LinearSystem<Scalar>& system) {
   const Index n = system.size();
   for (VectorX<Scalar>* v : {&m_r, &m_z, &m_p, &m_q}) v->setZero(n);
-  const bool geometric = m_settings.preconditioner == PreconditionerKind::Multigrid ||
-                         m_settings.preconditioner == PreconditionerKind::MultigridFloat;
-  if (geometric && system.layout.empty())
-    m_preconditioner = make_preconditioner<Scalar>(PreconditionerKind::AlgebraicMultigrid, {}, m_amg);
+  const PreconditionerKind chosen = m_settings.preconditioner;
+  if (needs_grid_layout(chosen) && system.layout.empty())
+    m_preconditioner = make_preconditioner<Scalar>(chosen == PreconditionerKind::MultigridFloat
+                                                       ? PreconditionerKind::AlgebraicMultigridFloat
+                                                       : PreconditionerKind::AlgebraicMultigrid,
+                                                   {}, m_amg);
   m_preconditioner->analyze(system);
   m_analyzed = n;
 }

@@ -1,7 +1,7 @@
 #pragma once
 /// \file preconditioner.hpp
 /// The interface of the iterative solvers' preconditioners (block_jacobi.hpp, multigrid.hpp,
-/// algebraic_multigrid.hpp):
+/// algebraic_multigrid.hpp, and their float versions inside a double solve):
 /// \f$ z = B r \f$ with \f$ B \approx A^{-1} \f$ symmetric positive definite when A is, which is
 /// what CG needs. Everything runs inside the solver's thread team: each call is made by every
 /// thread of the team (or by the one thread of a serial solve).
@@ -24,6 +24,9 @@ enum class PreconditionerKind : std::uint8_t {
   /// Smoothed-aggregation algebraic multigrid V-cycle (algebraic_multigrid.hpp): needs nothing but
   /// the matrix, so it works on any mesh.
   AlgebraicMultigrid = 3,
+  /// The same algebraic V-cycle in float inside a double solve
+  /// (single_precision_algebraic_multigrid.hpp); for a float solve, the same as AlgebraicMultigrid.
+  AlgebraicMultigridFloat = 4,
 };
 
 /// True if `kind` needs the system's lattice layout (LinearSystem::layout): the geometric V-cycles.
@@ -34,11 +37,12 @@ constexpr bool needs_grid_layout(PreconditionerKind kind) {
 template <>
 struct EnumNames<PreconditionerKind> {
   static constexpr const char* parameter = "preconditioner";
-  static constexpr std::array<EnumName<PreconditionerKind>, 4> values{
+  static constexpr std::array<EnumName<PreconditionerKind>, 5> values{
       {{PreconditionerKind::Multigrid, "multigrid"},
        {PreconditionerKind::MultigridFloat, "multigrid-float"},
        {PreconditionerKind::BlockJacobi, "block-jacobi"},
-       {PreconditionerKind::AlgebraicMultigrid, "amg"}}};
+       {PreconditionerKind::AlgebraicMultigrid, "amg"},
+       {PreconditionerKind::AlgebraicMultigridFloat, "amg-float"}}};
 };
 
 template <class Scalar = double>

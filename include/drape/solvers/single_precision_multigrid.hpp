@@ -27,6 +27,7 @@
 
 #include "drape/linalg/linear_system.hpp"
 #include "drape/platform/team.hpp"
+#include "drape/solvers/detail/float_copy.hpp"
 #include "drape/solvers/multigrid.hpp"
 #include "drape/solvers/preconditioner.hpp"
 
@@ -49,10 +50,6 @@ class SinglePrecisionMultigrid final : public Preconditioner<Scalar> {
   const LinearSystem<float>& single_system() const { return m_single; }
 
  private:
-  /// `to[i] = float(from[i])` for i < n, shared by the team (which waits at the end).
-  template <class From, class To>
-  static void convert(const From* from, To* to, std::size_t n);
-
   LinearSystem<float> m_single;
   MultigridPreconditioner<float> m_cycle;
   std::vector<float> m_r, m_z;
@@ -61,28 +58,8 @@ class SinglePrecisionMultigrid final : public Preconditioner<Scalar> {
 // ---------------------------------------------------------------------------------------------
 
 template <class Scalar>
-template <class From, class To>
-void SinglePrecisionMultigrid<Scalar>::convert(const From* from, To* to, std::size_t n) {
-  const auto share = even_share(static_cast<long long>(n), team_rank(), team_size());
-  DRAPE_OMP_SIMD
-  for (long long i = share.first; i < share.second; ++i) to[i] = static_cast<To>(from[i]);
-  team_barrier();
-}
-
-template <class Scalar>
 void SinglePrecisionMultigrid<Scalar>::analyze(const LinearSystem<Scalar>& system) {
-  const BlockSparseMatrix<Scalar>& a = system.matrix;
-  std::vector<std::vector<int>> columns(static_cast<std::size_t>(a.block_rows()));
-  for (int r = 0; r < a.block_rows(); ++r)
-    columns[static_cast<std::size_t>(r)].assign(a.column().begin() + a.row_begin()[static_cast<std::size_t>(r)],
-                                                a.column().begin() + a.row_begin()[static_cast<std::size_t>(r) + 1]);
-  m_single.matrix = BlockSparseMatrix<float>(std::move(columns));  // the same (sorted) block order
-  const EdgeOperator<Scalar>& edges = system.edges;
-  m_single.edges = EdgeOperator<float>(edges.edge_rows(), edges.colour_begin(),
-                                       std::vector<float>(edges.row_mass().begin(), edges.row_mass().end()));
-  if (edges.has_row_blocks()) m_single.edges.enable_row_blocks();
-  m_single.layout = system.layout;
-  m_single.constraints = ConstraintFilter<float>(system.block_rows());
+  m_single = detail::float_structure(system);
   m_r.assign(static_cast<std::size_t>(system.size()), 0.0f);
   m_z.assign(static_cast<std::size_t>(system.size()), 0.0f);
   m_cycle.analyze(m_single);
@@ -90,21 +67,10 @@ void SinglePrecisionMultigrid<Scalar>::analyze(const LinearSystem<Scalar>& syste
 
 template <class Scalar>
 bool SinglePrecisionMultigrid<Scalar>::update_in_team(const LinearSystem<Scalar>& system) {
-  const EdgeOperator<Scalar>& edges = system.edges;
-  if (edges.valid()) {
-    convert(edges.values(), m_single.edges.values(), edges.value_count());
-    if (edges.uses_row_blocks() || edges.uses_row_diagonal())
-      convert(edges.row_blocks(), m_single.edges.row_blocks(), 9 * static_cast<std::size_t>(edges.rows()));
-  }
-  team_single([&] {
-    if (edges.valid())
-      m_single.edges.set_valid(edges.symmetric(), edges.uses_row_blocks() || edges.uses_row_diagonal());
-    else
-      m_single.edges.invalidate();
-    m_single.constraints.assign(system.constraints);
-  });
+  detail::round_edges_and_constraints_in_team(system, m_single);
   if (!m_cycle.reads_fine_diagonal_only(m_single)) {
-    convert(system.matrix.values(), m_single.matrix.values(), 9 * static_cast<std::size_t>(system.matrix.block_count()));
+    detail::convert_in_team(system.matrix.values(), m_single.matrix.values(),
+                            9 * static_cast<std::size_t>(system.matrix.block_count()));
     return m_cycle.update_in_team(m_single);
   }
   // The cycle reads the fine matrix's diagonal blocks (the smoother) and level 1's sums: those
@@ -121,9 +87,9 @@ bool SinglePrecisionMultigrid<Scalar>::update_in_team(const LinearSystem<Scalar>
 
 template <class Scalar>
 void SinglePrecisionMultigrid<Scalar>::apply_in_team(const Scalar* r, Scalar* z) {
-  convert(r, m_r.data(), m_r.size());
+  detail::convert_in_team(r, m_r.data(), m_r.size());
   m_cycle.apply_in_team(m_r.data(), m_z.data());
-  convert(m_z.data(), z, m_z.size());
+  detail::convert_in_team(m_z.data(), z, m_z.size());
 }
 
 }  // namespace drape
