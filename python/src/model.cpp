@@ -292,6 +292,20 @@ void bind_collider(nb::module_& m) {
           "An open mesh is allowed (its front side is outside). Raises InvalidParameter naming 'collider mesh' "
           "and the element (docs/contact.md).")
       .def_static(
+          "animated_mesh",
+          [](const std::vector<NodeInput>& frames, const TriangleInput& triangles, const std::vector<double>& times,
+             const Vector& center, std::optional<std::array<Vector, 3>> rotation) {
+            if (frames.empty()) drape::detail::fail_argument("collider frames", "none", "at least one key frame");
+            std::vector<drape::Matrix3X<double>> positions;
+            for (const NodeInput& f : frames) positions.push_back(matrix_of(f));
+            return Collider::animated_mesh(mesh_of(frames.front(), triangles, std::nullopt), positions, times,
+                                           vec3(center), rotation_matrix(rotation));
+          },
+          "frames"_a, "triangles"_a, "times"_a, "center"_a = Vector{0, 0, 0}, "rotation"_a = nb::none(),
+          "A mesh whose vertices move: frames, a list of (n, 3) vertex arrays of the same triangles, at times "
+          "(s, strictly increasing), linear in between and held outside; placed as mesh(). Raises "
+          "InvalidParameter naming 'collider frames[k]' and the element or 'collider frame times'.")
+      .def_static(
           "from_obj",
           [](const std::string& path, double scale, const Vector& center, std::optional<std::array<Vector, 3>> rotation) {
             return Collider::mesh(read_obj_mesh(path, scale, false), vec3(center), rotation_matrix(rotation));
@@ -322,6 +336,7 @@ void bind_collider(nb::module_& m) {
           "half_extents", [](const Collider& c) { return array3(c.half_extents()); }, "Box half extents.")
       .def_prop_ro("half_height", &Collider::half_height, "Cylinder half height (0 otherwise).")
       .def_prop_ro("rounding", &Collider::rounding, "Box edge and cylinder rim rounding.")
+      .def_prop_ro("deforms", &Collider::deforms, "True for a mesh with key frames (animated_mesh).")
       .def_prop_ro("static_friction", &Collider::static_friction, "Static friction coefficient.")
       .def_prop_ro("kinetic_friction", &Collider::kinetic_friction, "Kinetic friction coefficient.")
       .def_prop_ro(

@@ -297,3 +297,36 @@ def test_cylinder_collider_a_round_table():
     y = state.positions[:, 1]
     assert y[4 * 9 + 4] == pytest.approx(-0.3 + 0.005, abs=1e-3)
     assert y.min() < -0.4
+
+
+def cube(half):
+    """A cube's 8 corners and 12 triangles, counter-clockwise seen from outside."""
+    v = np.array([[x, y, z] for z in (-half, half) for y in (-half, half) for x in (-half, half)], dtype=float)
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (1, 3, 7, 5), (0, 4, 6, 2)]
+    t = np.array([tri for a, b, c, d in quads for tri in ((a, b, c), (a, c, d))], dtype=np.int32)
+    return v, t
+
+
+def test_mesh_collider_still_and_animated(tmp_path):
+    v, t = cube(0.2)
+    box = drape.Collider.mesh(v, t, center=(0.1, -0.4, 0.1)).set_friction(0.3)
+    assert box.kind == "mesh" and not box.deforms
+    distance, normal, _ = box.query((0.1, 0.0, 0.1))
+    assert distance == pytest.approx(0.2) and normal == pytest.approx((0, 1, 0))
+    raised = v + (0, 1, 0)
+    lift = drape.Collider.animated_mesh([v, raised], t, [0.0, 2.0])
+    assert lift.deforms
+    distance, _, velocity = lift.query((0, 1.0, 0), 1.0)
+    assert distance == pytest.approx(0.3) and velocity == pytest.approx((0, 0.5, 0))
+    with pytest.raises(drape.InvalidParameter, match="collider frame times"):
+        drape.Collider.animated_mesh([v, raised], t, [1.0, 0.5])
+    with pytest.raises(drape.InvalidParameter, match="collider mesh"):
+        drape.Collider.mesh(v, t[:, ::-1].copy())  # wound inward
+    obj = tmp_path / "cube.obj"
+    obj.write_text("".join("v %g %g %g\n" % tuple(p) for p in v) + "".join("f %d %d %d\n" % tuple(f + 1) for f in t))
+    assert drape.Collider.from_obj(str(obj), scale=2.0).query((0, 1.0, 0))[0] == pytest.approx(0.6)
+    # A cloth dropped on the still cube rests on its top.
+    cloth = drape.Cloth(drape.ClothSpec(nx=5, ny=5, spacing=0.05, pinned_nodes=[], colliders=[box]))
+    state = cloth.initial_state()
+    drape.ImplicitEuler(cloth, dt=0.01, threads=1).run(state, 1.0)
+    assert state.positions[:, 1].max() == pytest.approx(-0.2 + 0.005, abs=1e-3)

@@ -77,7 +77,7 @@ const ShapeKeys& shape_keys(drape::ShapeKind kind) {
       {drape::ShapeKind::Box, {{"center", "half_extents"}, {"rotation_axis", "rotation_angle", "rounding"}}},
       {drape::ShapeKind::Cylinder,
        {{"center", "radius", "half_height"}, {"rotation_axis", "rotation_angle", "rounding"}}},
-      {drape::ShapeKind::Mesh, {{"file"}, {"center", "scale", "rotation_axis", "rotation_angle"}}},
+      {drape::ShapeKind::Mesh, {{"file"}, {"center", "scale", "rotation_axis", "rotation_angle", "frames"}}},
   };
   return keys.at(kind);
 }
@@ -176,13 +176,54 @@ drape::Colliderd collider_from_table(const toml::table& t, const std::string& ke
       // The OBJ file's vertices in metres (scale per file unit), relative to the scene file.
       const std::string path = scene_relative(from_toml<std::string>(*t.get("file"), key + ".file", file), file);
       const KeyName name = [&](const std::string& k) { return "scene file '" + file + "': " + key + "." + k; };
-      const drape::ClothMesh<double> mesh = read_obj_mesh(path, scalar("scale", 1.0), false, name, "file");
+      const double scale = scalar("scale", 1.0);
+      const drape::ClothMesh<double> mesh = read_obj_mesh(path, scale, false, name, "file");
+      const toml::node* frames_node = t.get("frames");
+      if (!frames_node) {
+        try {
+          return drape::Colliderd::mesh(mesh, vector("center"), rotation);
+        } catch (const InvalidParameter& e) {
+          if (e.parameter().rfind("collider mesh", 0) != 0) throw;
+          // The element as the file has it: "collider mesh.triangles[3]" -> "file 'x.obj'.triangles[3]".
+          fail(name("file") + " '" + path + "'" + e.parameter().substr(13), e.value(), e.allowed());
+        }
+      }
+      // Key frames: frames = [{time = 0.0, file = "a.obj"}, ...], each an OBJ of the same faces.
+      std::vector<drape::Matrix3X<double>> positions;
+      std::vector<double> times;
+      std::vector<std::string> frame_paths;
+      for_each_table(*frames_node, file, key + ".frames", "frames = [{time = 0.0, file = \"a.obj\"}, ...]",
+                     "{time = 0.0, file = \"a.obj\"}", [&](const toml::table& frame, const std::string& where) {
+                       const std::string at = where.substr(key.size() + 1);  // "frames[j]"
+                       check_keys(frame, where, file, {"time", "file"}, "a key frame has the keys time, file",
+                                  [](const std::string&) {});
+                       for (const char* k : {"time", "file"})
+                         if (!frame.get(k)) bad_key(file, where + "." + k, "is missing; a key frame needs time and file");
+                       times.push_back(from_toml<double>(*frame.get("time"), where + ".time", file));
+                       frame_paths.push_back(
+                           scene_relative(from_toml<std::string>(*frame.get("file"), where + ".file", file), file));
+                       const drape::ClothMesh<double> m = read_obj_mesh(frame_paths.back(), scale, false, name, at + ".file");
+                       if (m.triangles != mesh.triangles || m.quads != mesh.quads)
+                         fail(name(at + ".file") + " '" + frame_paths.back() + "'", "faces other than the mesh's",
+                              "the faces of " + key + ".file '" + path + "' (the same vertices in the same order)");
+                       positions.push_back(m.positions);
+                     });
       try {
-        return drape::Colliderd::mesh(mesh, vector("center"), rotation);
+        return drape::Colliderd::animated_mesh(mesh, positions, times, vector("center"), rotation);
       } catch (const InvalidParameter& e) {
-        if (e.parameter().rfind("collider mesh", 0) != 0) throw;
-        // The element as the file has it: "collider mesh.triangles[3]" -> "file 'x.obj': triangles[3]".
-        fail(name("file") + " '" + path + "'" + e.parameter().substr(13), e.value(), e.allowed());
+        const std::string& p = e.parameter();
+        if (p == "collider frames") bad_key(file, key + ".frames", "is empty; give at least one key frame");
+        if (p == "collider frame times") {  // "times[j] = 1"
+          const std::string j = e.value().substr(6, e.value().find(']') - 6);
+          fail(name("frames[" + j + "].time"), number(times[std::stoul(j)]), e.allowed());
+        }
+        if (p.rfind("collider frames[", 0) == 0) {  // "collider frames[j].triangles[3]"
+          const std::size_t close = p.find(']');
+          const std::string j = p.substr(16, close - 16);
+          fail(name("frames[" + j + "].file") + " '" + frame_paths[std::stoul(j)] + "'" + p.substr(close + 1), e.value(),
+               e.allowed());
+        }
+        throw;
       }
     }
     if (kind == ShapeKind::Cylinder)

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -286,6 +287,35 @@ static_friction = 0.3
   std::ofstream(dir / "flat.obj") << "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n";
   CHECK_THAT(error_of(dir, "[[colliders]]\nshape = \"mesh\"\nfile = \"flat.obj\"\n"),
              Contains("colliders[0].file") && Contains("flat.obj"));
+
+  // Key frames: the cube 1 m higher after 2 s, linear in between.
+  std::string raised;
+  std::istringstream lines(cube);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("v ", 0) == 0) {
+      double x = 0, y = 0, z = 0;
+      std::istringstream(line.substr(2)) >> x >> y >> z;
+      line = "v " + std::to_string(x) + " " + std::to_string(y + 100) + " " + std::to_string(z);
+    }
+    raised += line + "\n";
+  }
+  std::ofstream(dir / "raised.obj") << raised;
+  const std::string animated = "[[colliders]]\nshape = \"mesh\"\nfile = \"cube.obj\"\nscale = 0.01\n";
+  const Settings a = read_text(dir, animated + "frames = [{time = 0.0, file = \"cube.obj\"}, {time = 2.0, file = \"raised.obj\"}]\n");
+  REQUIRE(a.cloth.colliders.size() == 1);
+  CHECK(a.cloth.colliders[0].deforms());
+  CHECK(distance(a.cloth.colliders[0], 0, 2.0, 0, 0.0) == Approx(1.9));
+  CHECK(distance(a.cloth.colliders[0], 0, 2.0, 0, 1.0) == Approx(1.4));
+  CHECK(distance(a.cloth.colliders[0], 0, 2.0, 0, 3.0) == Approx(0.9));
+  CHECK(a.cloth.colliders[0].query(drape::Vec3<double>(0, 2, 0), 1.0).velocity.y() == Approx(0.5));
+  CHECK_THAT(error_of(dir, animated + "frames = [{time = 1.0, file = \"cube.obj\"}, {time = 1.0, file = \"raised.obj\"}]\n"),
+             Contains("colliders[0].frames[1].time") && Contains("increasing"));
+  CHECK_THAT(error_of(dir, animated + "frames = [{time = 0.0, file = \"cube.obj\"}, {time = 1.0, file = \"flat.obj\"}]\n"),
+             Contains("colliders[0].frames[1].file") && Contains("flat.obj"));
+  CHECK_THAT(error_of(dir, animated + "frames = [{time = 0.0}]\n"), Contains("colliders[0].frames[0].file") && Contains("missing"));
+  CHECK_THAT(error_of(dir, animated + "frames = [{time = 0.0, file = \"cube.obj\", speed = 1.0}]\n"),
+             Contains("colliders[0].frames[0].speed"));
+  CHECK_THAT(error_of(dir, animated + "frames = []\n"), Contains("colliders[0].frames") && Contains("at least one"));
 }
 
 TEST_CASE("[[colliders]], [[moving-pins]], [[cloths]]: one reader names unknown and misspelt keys, bad entries",

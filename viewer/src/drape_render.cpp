@@ -400,7 +400,10 @@ class Run {
     meshes.clear();
     for (const Solid& solid : m_solids) {
       if (solid.local.empty()) continue;  // planes: once the camera is known
-      meshes.push_back(drape::viewer::place_mesh(solid.local, solid.collider->motion().pose(t)));
+      const drape::RigidPose<double> pose = solid.collider->motion().pose(t);
+      meshes.push_back(solid.collider->deforms()  // a key-framed mesh: its shape at t
+                           ? drape::viewer::place_mesh(drape::viewer::local_collider_mesh(*solid.collider, 10, t), pose)
+                           : drape::viewer::place_mesh(solid.local, pose));
       drape::viewer::extend(box, meshes.back());
     }
   }
@@ -429,7 +432,9 @@ class Run {
     for (int k = 0; k < m_scene.cloth_count(); ++k)
       m_usd->set_points(m_usd_cloths[std::size_t(k)],
                         positions.middleCols(m_scene.node_offset(k), m_scene.cloth(k).node_count()));
-    for (const UsdCollider& c : m_usd_colliders) {
+    for (UsdCollider& c : m_usd_colliders) {
+      if (c.collider->deforms())  // a key-framed mesh: its vertices at this time
+        c.surface = drape::viewer::local_collider_surface(*c.collider, Eigen::Vector3f::Zero(), 1.0f, time);
       drape::viewer::place_points(c.surface.points, c.collider->motion().pose(time), m_placed);
       m_usd->set_points(c.mesh, m_placed);
     }

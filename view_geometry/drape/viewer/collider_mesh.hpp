@@ -75,7 +75,7 @@ inline std::vector<Eigen::Vector3f> cylinder_mesh(double radius, double half_hei
 /// Triangles (three vertices each, in the collider's local frame) of the closed surface of
 /// `collider`; empty for a plane. `segments`: grid segments per 45 degrees of a rounded band.
 template <class Scalar>
-std::vector<Eigen::Vector3f> local_collider_mesh(const Collider<Scalar>& collider, int segments = 10) {
+std::vector<Eigen::Vector3f> local_collider_mesh(const Collider<Scalar>& collider, int segments = 10, Scalar t = 0) {
   Eigen::Vector3d outer = Eigen::Vector3d::Zero(), inner = Eigen::Vector3d::Zero();
   double r = 0;
   switch (collider.kind()) {
@@ -96,9 +96,10 @@ std::vector<Eigen::Vector3f> local_collider_mesh(const Collider<Scalar>& collide
     case ShapeKind::Cylinder:
       return detail::cylinder_mesh(double(collider.radius()), double(collider.half_height()),
                                    double(collider.rounding()), segments);
-    case ShapeKind::Mesh: {  // its own triangles
+    case ShapeKind::Mesh: {  // its own triangles (a deforming mesh's at time t)
       std::vector<Eigen::Vector3f> triangles;
-      const auto& x = collider.mesh()->positions();
+      Matrix3X<Scalar> x;
+      collider.mesh_positions(t, x);
       triangles.reserve(3 * collider.mesh()->triangles().size());
       for (const std::array<int, 3>& t : collider.mesh()->triangles())
         for (int k : t) triangles.push_back(x.col(k).template cast<float>());

@@ -2,7 +2,8 @@
 /// \file collider_surface.hpp
 /// The colliders as meshes of shared points and fixed triangles in their own frame, to export
 /// with their motion (drape-render's USD file, drape/io/usd.hpp): each shape's closed mesh of
-/// collider_mesh.hpp with equal corners merged, a plane as a finite square. Placed by the
+/// collider_mesh.hpp with equal corners merged, a mesh collider's own vertices and faces, a plane
+/// as a finite square. Placed by the
 /// collider's pose at each time, the points move and the triangles stay.
 
 #include <Eigen/Core>
@@ -46,6 +47,14 @@ inline IndexedMesh merge_corners(const std::vector<Eigen::Vector3f>& soup) {
 template <class Scalar>
 IndexedMesh local_collider_surface(const Collider<Scalar>& collider, const Eigen::Vector3f& plane_around,
                                    float plane_half_size, Scalar t0 = Scalar(0), int segments = 10) {
+  if (collider.kind() == ShapeKind::Mesh) {  // its own vertices and faces (a deforming mesh's at t0)
+    Matrix3X<Scalar> x;
+    collider.mesh_positions(t0, x);
+    IndexedMesh mesh;
+    for (Index i = 0; i < x.cols(); ++i) mesh.points.push_back(x.col(i).template cast<float>());
+    mesh.triangles = collider.mesh()->triangles();
+    return mesh;
+  }
   if (collider.kind() != ShapeKind::Plane) return merge_corners(local_collider_mesh(collider, segments));
   const RigidPose<Scalar> pose = collider.motion().pose(t0);
   Eigen::Vector3f centre = pose.rotation.template cast<float>().transpose() *
