@@ -77,7 +77,7 @@ double segment_distance(const Vec3<double>& p0, const Vec3<double>& p1, const Ve
 }  // namespace
 
 TEMPLATE_TEST_CASE("contact: a cloth dropped on a plane or a box mesh rests on it and the floor carries its weight",
-                   "[contact][mesh_collider]", float, double) {
+                   "[contact][mesh_collider][long]", float, double) {
   using S = TestType;
   for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic})
     for (const bool meshed : {false, true}) {
@@ -165,7 +165,7 @@ TEMPLATE_TEST_CASE("contact: a cloth dropped on a round table rests on its top; 
 }
 
 TEMPLATE_TEST_CASE("contact: friction on a slope, analytic or meshed, sliding at g (sin a - mu cos a) or sticking",
-                   "[contact][friction][mesh_collider]", float, double) {
+                   "[contact][friction][mesh_collider][long]", float, double) {
   using S = TestType;
   const double angle = 20 * pi / 180;  // tan a = 0.364
   for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic})
