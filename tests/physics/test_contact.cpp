@@ -74,6 +74,22 @@ double segment_distance(const Vec3<double>& p0, const Vec3<double>& p1, const Ve
   return (p0 + s * d - c).norm();
 }
 
+/// Each node's straight path from `before` to `after` in `judge`'s moving frame, sampled `spacing`
+/// apart or closer, stays outside `judge` inflated by the cloth's contact thickness.
+void require_paths_outside(const Colliderd& judge, const Clothd& cloth, const Stated& before, const Stated& after,
+                           double spacing) {
+  const double floor = cloth.contact_thickness() - cloth.contact_tolerance();
+  const RigidPose<double> pose0 = judge.motion().pose(before.time), pose1 = judge.motion().pose(after.time);
+  for (Index i = 0; i < after.positions.cols(); ++i) {
+    const Vec3<double> p0 = pose0.to_local(before.positions.col(i)), p1 = pose1.to_local(after.positions.col(i));
+    const int samples = 1 + int((p1 - p0).norm() / spacing);
+    for (int j = 0; j <= samples; ++j) {
+      const Vec3<double> world = pose0.to_world(p0 + (p1 - p0) * (double(j) / samples));
+      REQUIRE(judge.query(world, before.time).distance >= floor);
+    }
+  }
+}
+
 }  // namespace
 
 TEMPLATE_TEST_CASE("contact: a cloth dropped on a plane or a box mesh rests on it and the floor carries its weight",
@@ -362,19 +378,8 @@ TEST_CASE("contact: a fast tilted rod swept through a hanging cloth never passes
     const Clothd cloth(spec);
     auto stepper = integrator(cloth, kind);
     Stated state = cloth.initial_state();
-    const double h = cloth.contact_thickness();
     run<double>(*stepper, state, 0.1, [&](const Stated& before, const Stated& after) {
-      // Each node's straight path in the rod's frame, sampled 1 mm apart or closer, stays outside
-      // the rod inflated by h.
-      const RigidPose<double> pose0 = rod.motion().pose(before.time), pose1 = rod.motion().pose(after.time);
-      for (Index i = 0; i < after.positions.cols(); ++i) {
-        const Vec3<double> p0 = pose0.to_local(before.positions.col(i)), p1 = pose1.to_local(after.positions.col(i));
-        const int samples = 1 + int((p1 - p0).norm() / 1e-3);
-        for (int j = 0; j <= samples; ++j) {
-          const Vec3<double> world = pose0.to_world(p0 + (p1 - p0) * (double(j) / samples));
-          REQUIRE(rod.query(world, before.time).distance >= h - cloth.contact_tolerance());
-        }
-      }
+      require_paths_outside(rod, cloth, before, after, 1e-3);
     });
     CHECK(state.positions.row(1).maxCoeff() > 0.3);  // thrown up by the rod
   }
@@ -403,19 +408,8 @@ TEST_CASE("contact: a thin mesh plate swept fast through a hanging cloth never p
     const Clothd cloth(spec);
     auto stepper = integrator(cloth, kind);
     Stated state = cloth.initial_state();
-    const double h = cloth.contact_thickness();
     run<double>(*stepper, state, 0.1, [&](const Stated& before, const Stated& after) {
-      // Each node's straight path in the plate's frame, sampled 0.5 mm apart or closer, stays
-      // outside the plate inflated by h.
-      const RigidPose<double> pose0 = judge.motion().pose(before.time), pose1 = judge.motion().pose(after.time);
-      for (Index i = 0; i < after.positions.cols(); ++i) {
-        const Vec3<double> p0 = pose0.to_local(before.positions.col(i)), p1 = pose1.to_local(after.positions.col(i));
-        const int samples = 1 + int((p1 - p0).norm() / 5e-4);
-        for (int j = 0; j <= samples; ++j) {
-          const Vec3<double> world = pose0.to_world(p0 + (p1 - p0) * (double(j) / samples));
-          REQUIRE(judge.query(world, before.time).distance >= h - cloth.contact_tolerance());
-        }
-      }
+      require_paths_outside(judge, cloth, before, after, 5e-4);  // the plate is 4 mm thick
     });
     CHECK(state.positions.row(1).maxCoeff() > 0.3);  // thrown up by the plate
     }
