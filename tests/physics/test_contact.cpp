@@ -519,6 +519,12 @@ TEST_CASE("contact: bad input names the parameter", "[contact][validation]") {
   ClothSpecd spec = test::small_spec<double>(5, 10.0);  // two corners pinned, at y = 0
   spec.colliders.push_back(Colliderd::sphere(Vec3<double>(0, 0, 0), 0.1));
   CHECK_THROWS_WITH(Clothd(spec), Catch::Contains("colliders[0]") && Catch::Contains("pinned node 0"));
+  // A mesh collider, still or key-framed, over a pinned node at the start.
+  spec.colliders = {Colliderd::mesh(box_mesh<double>(Vec3<double>(0.1, 0.1, 0.1)))};
+  CHECK_THROWS_WITH(Clothd(spec), Catch::Contains("colliders[0]") && Catch::Contains("pinned node 0"));
+  const ClothMesh<double> box = box_mesh<double>(Vec3<double>(0.1, 0.1, 0.1));
+  spec.colliders = {Colliderd::animated_mesh(box, {box.positions, Matrix3X<double>(box.positions.array() + 1.0)}, {0.0, 1.0})};
+  CHECK_THROWS_WITH(Clothd(spec), Catch::Contains("colliders[0]") && Catch::Contains("pinned node 0"));
   spec.colliders.clear();
   spec.contact_thickness = -0.001;
   CHECK_THROWS_WITH(Clothd(spec), Catch::Contains("contact thickness"));
