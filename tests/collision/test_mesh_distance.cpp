@@ -130,7 +130,7 @@ TEST_CASE("mesh distance: the tree's closest point is the nearest of all triangl
 }
 
 TEST_CASE("mesh distance: inside and outside are right at the edges and corners of a non-convex mesh",
-          "[mesh_collider]") {
+          "[mesh_collider][long]") {
   for (const unsigned seed : {1u, 2u, 3u}) {
     const ClothMesh<double> mesh = spiky_ball(seed);
     const MeshDistance<double> distance(mesh.triangles, mesh.positions);

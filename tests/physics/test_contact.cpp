@@ -311,7 +311,7 @@ TEST_CASE("contact: a surface that had to pull lets go for good: a cloth blown o
 }
 
 TEST_CASE("contact: a cloth thrown at a thin box or a thin mesh plate never passes through it",
-          "[contact][tunnelling][mesh_collider]") {
+          "[contact][tunnelling][mesh_collider][long]") {
   for (const IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2, IntegratorKind::Symplectic})
     for (const bool meshed : {false, true}) {
     INFO(to_string(kind) << (meshed ? ", mesh plate" : ", box"));
