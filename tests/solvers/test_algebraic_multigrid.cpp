@@ -526,8 +526,11 @@ TEST_CASE("amg: float", "[amg][float]") {
   CHECK(u.dot(bu) > 0);
 }
 
-TEST_CASE("amg: a system analyzed before its values gets its hierarchy at the first update", "[amg]") {
-  // ImplicitEuler analyzes the system of JacobianAssembler::make_system(), all zeros.
+/// ImplicitEuler analyzes the system of JacobianAssembler::make_system(), all zeros: `late` analyzed
+/// so builds its hierarchy at its first update, and must then equal `early`, analyzed assembled.
+/// `cycle(p)`: p's AlgebraicMultigrid (double, or the float one inside).
+template <class Preconditioner, class Cycle>
+void check_analysis_before_values(Cycle&& cycle) {
   GridProblem<double> assembled(33, PinTreatment::Filter);
   Cloth<double> cloth([] {
     ClothSpec<double> spec;
@@ -536,24 +539,25 @@ TEST_CASE("amg: a system analyzed before its values gets its hierarchy at the fi
   }());
   JacobianAssembler<double> assembler(cloth, PinTreatment::Filter, 1);
   LinearSystem<double> system = assembler.make_system();
-  AlgebraicMultigrid<double> late, early;
+  Preconditioner late, early;
   late.analyze(system);
-  CHECK_FALSE(late.built());
+  CHECK_FALSE(cycle(late).built());
   early.analyze(assembled.system);
-  CHECK(early.built());
-  assembler.assemble_system(test::jiggled_positions(cloth, 0.05, 7u),
-                            [&] {
-                              Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 8u);
-                              for (int p : cloth.pins().nodes()) v.col(p).setZero();
-                              return v;
-                            }(),
-                            0, 1.0 / 60, JacobianVariant::Spd, system);
+  CHECK(cycle(early).built());
+  Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 8u);
+  for (int p : cloth.pins().nodes()) v.col(p).setZero();
+  assembler.assemble_system(test::jiggled_positions(cloth, 0.05, 7u), v, 0, 1.0 / 60, JacobianVariant::Spd, system);
   REQUIRE(update(late, system, 2));
-  REQUIRE(late.built());
+  REQUIRE(cycle(late).built());
   REQUIRE(update(early, assembled.system));
-  REQUIRE(late.level_rows() == early.level_rows());
+  REQUIRE(cycle(late).level_rows() == cycle(early).level_rows());
   const VectorX<double> r = random_vector(system.block_rows(), 5u);
   CHECK(apply(late, r) == apply(early, r));
+}
+
+TEST_CASE("amg: a system analyzed before its values gets its hierarchy at the first update", "[amg]") {
+  check_analysis_before_values<AlgebraicMultigrid<double>>(
+      [](const AlgebraicMultigrid<double>& p) -> const AlgebraicMultigrid<double>& { return p; });
 }
 
 TEST_CASE("amg: no strong coupling, or a system small enough for one level", "[amg]") {
@@ -757,27 +761,8 @@ TEST_CASE("amg-float: one and two threads give the same bits", "[amg][mixed][thr
 }
 
 TEST_CASE("amg-float: a system analyzed before its values gets the hierarchy of one analyzed after", "[amg][mixed]") {
-  GridProblem<double> assembled(33, PinTreatment::Filter);
-  Cloth<double> cloth([] {
-    ClothSpec<double> spec;
-    spec.nx = spec.ny = 33;
-    return spec;
-  }());
-  JacobianAssembler<double> assembler(cloth, PinTreatment::Filter, 1);
-  LinearSystem<double> system = assembler.make_system();
-  SinglePrecisionAlgebraicMultigrid<double> late, early;
-  late.analyze(system);
-  CHECK_FALSE(late.cycle().built());
-  early.analyze(assembled.system);
-  CHECK(early.cycle().built());
-  Matrix3X<double> v = test::random_velocities<double>(cloth.node_count(), 1.0, 8u);
-  for (int p : cloth.pins().nodes()) v.col(p).setZero();
-  assembler.assemble_system(test::jiggled_positions(cloth, 0.05, 7u), v, 0, 1.0 / 60, JacobianVariant::Spd, system);
-  REQUIRE(update(late, system, 2));
-  REQUIRE(update(early, assembled.system));
-  REQUIRE(late.cycle().level_rows() == early.cycle().level_rows());
-  const VectorX<double> r = random_vector(system.block_rows(), 5u);
-  CHECK(apply(late, r) == apply(early, r));
+  check_analysis_before_values<SinglePrecisionAlgebraicMultigrid<double>>(
+      [](const SinglePrecisionAlgebraicMultigrid<double>& p) -> const AlgebraicMultigrid<float>& { return p.cycle(); });
 }
 
 TEST_CASE("amg-float: chosen by name, and what a mesh cloth gets for the float geometric multigrid",
