@@ -497,7 +497,10 @@ TEST_CASE("mesh_panel on 200 random star-shaped polygons: the outline kept, the 
     INFO("polygon " << i << ": " << corners << " corners, " << outline.cols() << " points, h = " << h);
     const drape::PanelMesh panel = drape::mesh_panel(outline, h);
     const Measures f = check_panel(outline, panel, h);
-    CHECK(f.min_angle > 0);
+    // Their sharpest corners bound the angles (19.6 degrees here at worst); refinement keeps new
+    // vertices off the outline (0.21 h at worst).
+    CHECK(f.min_angle >= 15);
+    CHECK(f.nearest_interior_vertex >= 0.15);
     ++meshes;
   }
   CHECK(meshes == 200);

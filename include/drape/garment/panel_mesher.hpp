@@ -18,25 +18,25 @@
 ///    constrained, the mesh is flipped to the constrained Delaunay triangulation, and the triangles
 ///    outside the polygon are removed.
 /// 3. Refinement (after Ruppert; Shewchuk 2002), no outline segment split: the circumcentre of a
-///    triangle whose smallest angle is below 30 degrees is inserted, unless that angle is at an
-///    outline corner sharper than 60 degrees, or the centre is not reached from the triangle
-///    without crossing the outline, or it lies within 0.4 of the circle's radius of the outline.
+///    triangle whose smallest angle is below 30 degrees is inserted, unless it is not reached from
+///    the triangle without crossing the outline or lies within 0.4 of the circle's radius (and
+///    within 0.6 h) of the outline.
 /// 4. Smoothing (6 passes): each interior vertex moves only where the smallest angle of its
 ///    triangles grows, the mesh flipped to Delaunay after each pass; outline points never move and
 ///    outline segments are never flipped (they bound the mesh). Then refinement once more.
 ///
 /// Vertices: the outline's, the lattice's along a Hilbert curve (near in memory when near in the
 /// plane), then those refinement inserted. The outline may run counter-clockwise or clockwise:
-/// nothing depends on its direction but the corner angles' sign, and the triangles always run
-/// counter-clockwise in the plane (x right, y up).
+/// nothing depends on its direction, the mesh is the same either way (to round-off), and the
+/// triangles always run counter-clockwise in the plane (x right, y up).
 ///
 /// Guarantees: the outline exactly as given (above); a disk (manifold, Euler characteristic 1,
 /// consistently oriented) whose area is the polygon's to round-off; every triangle with an angle
-/// below 30 degrees is one that refinement must leave (its smallest angle at a corner sharper than
-/// 60 degrees, or its circumcentre beyond the outline or within 0.4 of its radius of it):
-/// away from the outline every angle is 30 degrees or more. At the outline the angles depend on
-/// the corners and the sampling; drape's panel_meshing.md has the figures measured (32 degrees at
-/// worst off corners sharper than 60 on its test panels, outlines sampled 0.3 h to 1.9 h apart).
+/// below 30 degrees is one that refinement must leave, its circumcentre beyond the outline or
+/// within 0.4 of its radius of it: away from the outline every angle is 30 degrees or more. At the
+/// outline the angles depend on its corners (a corner's angle bounds its triangles') and on its
+/// sampling; drape's panel_meshing.md has the figures measured (32 degrees at worst off corners
+/// sharper than 60 on its test panels, outlines sampled 0.3 h to 1.9 h apart).
 
 #include <algorithm>
 #include <array>
@@ -95,11 +95,11 @@ constexpr double panel_clearance = 0.6;
 constexpr double panel_long_segment_clearance = 0.45;
 /// How many placements of the lattice are tried (shifted by a fraction of a row height).
 constexpr int panel_lattice_placements = 4;
-/// Refinement inserts the circumcentre of a triangle whose smallest angle is below this (degrees),
-/// unless that angle is at an outline corner sharper than panel_sharp_corner (which bounds it) ...
+/// Refinement inserts the circumcentre of a triangle whose smallest angle is below this (degrees)
+/// ...
 constexpr double panel_refinement_angle = 30.0;
-constexpr double panel_sharp_corner = 60.0;
-/// ... or the centre lies nearer an outline segment than this fraction of the circle's radius.
+/// ... unless it lies nearer an outline segment than this fraction of the circle's radius (or
+/// than panel_clearance edge lengths).
 constexpr double panel_refinement_clearance = 0.4;
 /// The outline's segments, in edge lengths: at most this long ...
 constexpr double panel_longest_segment = 2.0;
@@ -270,24 +270,6 @@ inline void require_panel_outline(const Eigen::Matrix2Xd& outline, double edge_l
                       to_text(std::llround(vertices)) + " asked)");
 }
 
-/// The polygon's interior angle at each outline point, degrees in (0, 360): below 180 at a convex
-/// corner, above at a reflex one, whichever way the outline runs.
-inline std::vector<double> interior_angles(const std::vector<Point2>& loop) {
-  const std::size_t m = loop.size();
-  double twice_area = 0;
-  for (std::size_t k = 0; k < m; ++k) twice_area += orientation(Point2::Zero(), loop[k], loop[(k + 1) % m]);
-  const double turn = twice_area > 0 ? 1 : -1;  // counter-clockwise: the inside is on the left
-  std::vector<double> angle(m);
-  for (std::size_t k = 0; k < m; ++k) {
-    const Point2 ahead = loop[(k + 1) % m] - loop[k], back = loop[(k + m - 1) % m] - loop[k];
-    // From the segment ahead round to the one behind, through the inside.
-    const double a = std::atan2(turn * (ahead.x() * back.y() - ahead.y() * back.x()), ahead.dot(back)) * 180 /
-                     3.14159265358979323846;
-    angle[k] = a < 0 ? a + 360 : a;
-  }
-  return angle;
-}
-
 /// The lattice vertices of step 1: inside the polygon, at least panel_clearance edge lengths from
 /// every segment; row by row (rows along x, a row `shift` row heights above the bounding box's
 /// centre).
@@ -431,19 +413,12 @@ inline PanelMesh mesh_panel(const Eigen::Matrix2Xd& outline, double edge_length)
     throw std::logic_error("drape: mesh_panel: a vertex is in no triangle inside the outline");
   triangulation.points.resize(n);
 
-  // Refinement where a triangle is thin (mostly at outline corners between segments of unequal
-  // length, at short segments and across narrow parts); corners sharper than
-  // panel_sharp_corner keep their angle, and no vertex comes near the outline.
-  const std::vector<double> corner_angle = detail::interior_angles(loop);
+  // Refinement where a triangle is thin (at outline corners between segments of unequal length,
+  // at short segments, across narrow parts), no new vertex near the outline: a corner's own angle
+  // stays (the centre of a thin triangle at a sharp corner lies near its sides).
   const auto accept = [&](int t, const Point2& centre) {
-    const std::array<int, 3>& f = triangulation.triangles[static_cast<std::size_t>(t)];
-    const auto at = [&](int k) { return triangulation.points[static_cast<std::size_t>(f[static_cast<std::size_t>(k % 3)])]; };
-    int smallest = 0;  // the corner opposite the shortest edge
-    for (int k = 1; k < 3; ++k)
-      if ((at(k + 1) - at(k + 2)).squaredNorm() < (at(smallest + 1) - at(smallest + 2)).squaredNorm()) smallest = k;
-    const int v = f[static_cast<std::size_t>(smallest)];
-    if (v < static_cast<int>(m) && corner_angle[static_cast<std::size_t>(v)] < detail::panel_sharp_corner) return false;
-    const double needed = std::min(detail::panel_refinement_clearance * (centre - at(0)).norm(), clearance);
+    const Point2& corner = triangulation.points[static_cast<std::size_t>(triangulation.triangles[static_cast<std::size_t>(t)][0])];
+    const double needed = std::min(detail::panel_refinement_clearance * (centre - corner).norm(), clearance);
     return near.distance_within(centre, needed) >= needed;
   };
   triangulation.refine(detail::panel_refinement_angle, static_cast<int>(n), accept);
