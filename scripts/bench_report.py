@@ -681,6 +681,7 @@ def main():
             "build/bench/bench/drape_refinement                               # CG iterations against the grid size",
             "build/bench/bench/drape_amg_cost                                 # each preconditioner's set-up and solve (docs/amg.md)",
             "build/bench/bench/drape_mesh_step                                # disk meshes against grids (docs/mesh.md)",
+            "build/bench/bench/drape_panel_meshing                            # garment panels meshed: time, angles (docs/panel_meshing.md)",
             "build/bench/bench/drape_usd_export 256 120 /tmp                 # the USD file against OBJ frames (docs/viewer.md)",
             "```", "", "[performance.md](performance.md) explains the figures and gives the command behind each of its own.", ""]
     open(args.markdown, "w").write("\n".join(out))
