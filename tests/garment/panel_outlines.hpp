@@ -124,7 +124,7 @@ struct Measures {
   double min_angle_off_sharp_corners = 180;  // over the triangles with no corner sharper than sharp_corner
   double sharpest_corner = 360;              // the outline's smallest interior angle
   double shortest_edge = 0, edge_5 = 0, median_edge = 0, edge_95 = 0, longest_edge = 0;  // percentiles 0, 5, 50, 95, 100
-  double nearest_interior_vertex = 1e300;    // to the outline
+  double nearest_interior_vertex = 1;       // to the outline, up to h
   double triangles_per_ideal = 0;            // triangles / (area / (sqrt(3)/4 h^2))
 };
 
@@ -157,11 +157,33 @@ inline Measures measure(const Eigen::Matrix2Xd& outline, const drape::PanelMesh&
   out.median_edge = percentile(50);
   out.edge_95 = percentile(95);
   out.longest_edge = lengths.back();
-  for (Eigen::Index v = m; v < n; ++v)
-    for (Eigen::Index k = 0; k < m; ++k)
+  // The nearest interior vertex to the outline, up to h: segments bucketed in cells of h, each in
+  // the cells within h of its bounding box.
+  const Point lo = outline.rowwise().minCoeff(), hi = outline.rowwise().maxCoeff();
+  const Eigen::Index columns = static_cast<Eigen::Index>((hi.x() - lo.x()) / h) + 1,
+                     rows = static_cast<Eigen::Index>((hi.y() - lo.y()) / h) + 1;
+  const auto cell = [&](const Point& p, Eigen::Index grow) {
+    const auto clamp = [](double v, Eigen::Index count) {
+      return std::min(count - 1, std::max(Eigen::Index(0), static_cast<Eigen::Index>(std::floor(v))));
+    };
+    return std::pair<Eigen::Index, Eigen::Index>(clamp((p.x() - lo.x()) / h + double(grow), columns),
+                                                 clamp((p.y() - lo.y()) / h + double(grow), rows));
+  };
+  std::vector<std::vector<Eigen::Index>> near(static_cast<std::size_t>(columns * rows));
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const Point a = outline.col(k), b = outline.col((k + 1) % m);
+    const auto first = cell(a.cwiseMin(b), -1), last = cell(a.cwiseMax(b), 1);
+    for (Eigen::Index y = first.second; y <= last.second; ++y)
+      for (Eigen::Index x = first.first; x <= last.first; ++x) near[static_cast<std::size_t>(y * columns + x)].push_back(k);
+  }
+  out.nearest_interior_vertex = 1;
+  for (Eigen::Index v = m; v < n; ++v) {
+    const auto c = cell(panel.rest.col(v), 0);
+    for (Eigen::Index k : near[static_cast<std::size_t>(c.second * columns + c.first)])
       out.nearest_interior_vertex =
           std::min(out.nearest_interior_vertex,
                    point_segment_distance(panel.rest.col(v), outline.col(k), outline.col((k + 1) % m)) / h);
+  }
   out.triangles_per_ideal = double(t_count) / (std::abs(shoelace_area(outline)) / (std::sqrt(3.0) / 4 * h * h));
   return out;
 }

@@ -352,7 +352,7 @@ TEST_CASE("mesh_panel on 200 random star-shaped polygons: the outline kept, the 
       const double a = 2 * pi * (k + 0.45 * (unit(rng) - 0.5)) / corners, r = 0.1 + 0.4 * unit(rng);
       points.emplace_back(r * std::cos(a), r * std::sin(a));
     }
-    const double h = 0.005 + 0.04 * unit(rng);
+    const double h = 0.01 + 0.035 * unit(rng);
     std::vector<Point> sampled;
     for (int k = 0; k < corners; ++k) {
       const Point a = points[static_cast<std::size_t>(k)], b = points[static_cast<std::size_t>((k + 1) % corners)];
