@@ -45,12 +45,14 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "drape/core/cloth_mesh.hpp"
-#include "drape/core/detail/planar_triangulation.hpp"
+// The mesh generators: their planar triangulation (core/detail/planar_triangulation.hpp, a part of
+// them), smoothing passes and vertex cap.
 #include "drape/core/mesh_generators.hpp"
 #include "drape/core/validation.hpp"
 
