@@ -192,8 +192,8 @@ inline double twice_signed_area(const std::vector<Eigen::Vector2d>& points) {
   return sum;
 }
 
-/// The checks validate() makes on each panel's outline use each curved edge as this many chords of
-/// equal arc length (a straight edge as one).
+/// The checks validate() makes on each panel's outline use each curved edge as this many chords
+/// between equal steps of its parameter (a straight edge as one).
 constexpr int validation_chords_per_curve = 16;
 
 /// Checks the pattern: at least one panel; unique, non-empty panel names; per panel at least two
@@ -389,14 +389,13 @@ inline void validate_panel(const PatternPanel& panel, const std::string& source,
       !(std::abs(r.determinant() - 1) <= 1e-6))
     pattern_fail(source, path + ".rotation", "not a rotation (orthonormal with determinant +1)");
 
-  // The outline: each curve as chords of equal length; it must enclose an area and not cross itself.
+  // The outline: each curve as chords; it must enclose an area and not cross itself.
   std::vector<Eigen::Vector2d> points;
   std::vector<int> point_edge;
   for (int e = 0; e < edge_count; ++e) {
     const int chords = panel.edges[std::size_t(e)].curve.type == CurveType::Straight ? 1 : validation_chords_per_curve;
-    const std::vector<double> u = edge_parameters(panel, e, chords);
     for (int k = 0; k < chords; ++k) {
-      points.push_back(edge_point(panel, e, u[std::size_t(k)]));
+      points.push_back(edge_point(panel, e, double(k) / chords));
       point_edge.push_back(e);
     }
   }

@@ -31,13 +31,15 @@
 
 namespace drape::pattern_io {
 
-/// Bounds on what a file may hold, so that reading any input takes bounded time and memory.
-constexpr long long max_pattern_bytes = 64LL << 20;
+/// Bounds on what a file may hold, so that reading any input takes bounded time and memory (about
+/// half a second per megabyte of JSON, mostly nlohmann-json's parse; GarmentCode's patterns have
+/// 20-100 kB, 6-12 panels, up to 30 edges a panel).
+constexpr long long max_pattern_bytes = 16LL << 20;
 constexpr int max_pattern_panels = 1000;
 constexpr int max_panel_vertices = 1000;
 constexpr int max_panel_edges = 1000;
-constexpr int max_pattern_edges = 100000;  ///< over all panels
-constexpr int max_pattern_stitches = 100000;
+constexpr int max_pattern_edges = 20000;  ///< over all panels
+constexpr int max_pattern_stitches = 20000;
 
 /// The pattern of the JSON file `path`.
 /// \throws PatternError for a file that cannot be read or holds a defect (docs/garments.md lists them).
