@@ -194,6 +194,18 @@ TEST_CASE("the T-shirt sampled: vertices kept, stitched edges of equal counts, p
       }
     }
   }
+  // At h = 9.88 mm the side seam's edges (0.26229 and 0.26140 m) round to 27 and 26 segments; sewn
+  // together, both take 27, and so for every stitch.
+  const double odd_h = 0.00988;
+  CHECK(std::lround(edge_length(shirt.panels[1], 1) / odd_h) == 27);
+  CHECK(std::lround(edge_length(shirt.panels[0], 5) / odd_h) == 26);
+  const PatternOutlines odd = sample_outlines(shirt, odd_h);
+  CHECK(odd.panels[1].segments[1] == 27);
+  CHECK(odd.panels[0].segments[5] == 27);
+  for (const Stitch& stitch : shirt.stitches)
+    CHECK(odd.panels[std::size_t(stitch.sides[0].panel)].segments[std::size_t(stitch.sides[0].edge)] ==
+          odd.panels[std::size_t(stitch.sides[1].panel)].segments[std::size_t(stitch.sides[1].edge)]);
+
   int distinct = 0;
   for (int s = 0; s < int(shirt.stitches.size()); ++s) {
     INFO("stitch " << s);
