@@ -104,6 +104,11 @@
 // scene: several cloths stepped together, colliding with each other
 #include "drape/scene/cloth_scene.hpp"
 
+// garment: sewing patterns (panels, their curves, stitches) and their outlines sampled for meshing
+#include "drape/garment/pattern_curves.hpp"
+#include "drape/garment/sewing_pattern.hpp"
+#include "drape/garment/outline_sampling.hpp"
+
 // realtime and io: pacing against the wall clock, files
 #include "drape/realtime/realtime_driver.hpp"
 #include "drape/io/atomic_file.hpp"
