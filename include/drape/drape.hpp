@@ -115,3 +115,6 @@
 #include "drape/io/obj.hpp"
 #include "drape/io/state_io.hpp"
 #include "drape/io/usd.hpp"
+
+// garment: sewing-pattern panels meshed
+#include "drape/garment/panel_mesher.hpp"
