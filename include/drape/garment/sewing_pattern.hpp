@@ -32,6 +32,7 @@
 
 #include <Eigen/Core>
 
+#include "drape/core/detail/planar_triangulation.hpp"
 #include "drape/core/placement.hpp"
 #include "drape/core/validation.hpp"
 #include "drape/garment/pattern_curves.hpp"
@@ -220,21 +221,6 @@ inline void validate_stitches(const SewingPattern& pattern, const std::string& s
 namespace detail {
 
 inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-/// Whether the segments [p, q] and [r, s] have a point in common (touching counts).
-inline bool segments_meet(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r,
-                          const Eigen::Vector2d& s) {
-  const double d1 = cross2(q - p, r - p), d2 = cross2(q - p, s - p);
-  const double d3 = cross2(s - r, p - r), d4 = cross2(s - r, q - r);
-  const auto sign = [](double x) { return (x > 0) - (x < 0); };
-  if (sign(d1) * sign(d2) < 0 && sign(d3) * sign(d4) < 0) return true;
-  // Touching or collinear: a point of one on the other.
-  const auto on = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c, double d) {
-    return d == 0 && std::min(a.x(), b.x()) <= c.x() && c.x() <= std::max(a.x(), b.x()) &&
-           std::min(a.y(), b.y()) <= c.y() && c.y() <= std::max(a.y(), b.y());
-  };
-  return on(p, q, r, d1) || on(p, q, s, d2) || on(r, s, p, d3) || on(r, s, q, d4);
-}
 
 /// A number for a message, to `digits` significant digits.
 inline std::string short_number(double x, int digits = 6) {
