@@ -11,7 +11,7 @@
 ///    (scenes/curtain.toml), from t = 2.0 s, half a second into the draw (1.5 s to 3.5 s), so the
 ///    rings move during the whole timed window.
 /// And `contact_detection/drape/scene=drop_on_sphere`: the contact handling of one implicit step of
-/// the drop alone (ContactHandler's constrain(), one revise() and respond(), serial), which grows
+/// the drop alone (ContactHandler's constrain(), one revise(), respond() and keep_clear(), serial), which grows
 /// linearly in the nodes.
 ///
 /// Sizes: n = 33, 65, 129, n x n nodes. This is a benchmark of cost, not of physics: at every n the
@@ -276,7 +276,7 @@ const ContactInputs& contact_inputs(int n) {
 /// sphere and the floor (broad phase, swept test) into the solve's constraints (constrain()), one
 /// round of impulses and newly reached nodes (revise(); the step may run more, see
 /// scene_step's `solves`), and the contact response with friction and the end-of-step check
-/// (respond()). Serial (the handler is). Each iteration also copies the step's result into the
+/// (respond(), keep_clear()). Serial (the handler is). Each iteration also copies the step's result into the
 /// buffers respond() corrects in place (48 bytes per node: about 2% of the time at every n).
 void contact_detection(benchmark::State& st) {
   const int n = int(st.range(0));
@@ -297,6 +297,7 @@ void contact_detection(benchmark::State& st) {
     x_new = in.x_new;
     v_new = in.v_new;
     handler.respond(s.positions, s.velocities, s.time, scene_dt, x_new, v_new, pinned);
+    handler.keep_clear(x_new, v_new, pinned);
     benchmark::DoNotOptimize(x_new.data());
     benchmark::ClobberMemory();
     contacts += handler.report().contacts;

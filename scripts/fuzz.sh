@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Bounded fuzzing of drape's input handling with libFuzzer (clang): the state-file loader, the
-# scene-file parser, the command-line handling of drape-render and the OBJ mesh reader.
-#   scripts/fuzz.sh [SECONDS_PER_TARGET=20] [TARGET...]     (targets: state_io scene cli obj)
+# scene-file parser, the command-line handling of drape-render, the OBJ mesh reader and the
+# sewing-pattern reader.
+#   scripts/fuzz.sh [SECONDS_PER_TARGET=20] [TARGET...]     (targets: state_io scene cli obj pattern)
 # Builds the fuzzers in build/fuzz, runs each for SECONDS from fuzz/corpus/<target> (new inputs
 # go to build/fuzz/corpus/<target>, the repository's seed corpus is not modified), stops by
 # itself, and exits non-zero if any target found a crash (the reproducer is printed and kept in
@@ -11,7 +12,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-20}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(state_io scene cli obj)
+[ ${#targets[@]} -eq 0 ] && targets=(state_io scene cli obj pattern)
 command -v clang++ >/dev/null || { echo "fuzz.sh: needs clang++ (scripts/install-deps.sh fuzz)" >&2; exit 2; }
 
 build=build/fuzz

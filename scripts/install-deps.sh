@@ -4,15 +4,15 @@
 set -euo pipefail
 
 core=(g++ cmake ninja-build pkg-config libeigen3-dev)
-test=(catch2 libsuitesparse-dev libopenblas-dev libtinyobjloader-dev)
+test=(catch2 libsuitesparse-dev libopenblas-dev libtinyobjloader-dev nlohmann-json3-dev)
 viewer=(libosmesa6-dev libpng-dev libcli11-dev libtomlplusplus-dev libsuitesparse-dev libopenblas-dev
-        libtinyobjloader-dev)
+        libtinyobjloader-dev nlohmann-json3-dev)
 bench=(libbenchmark-dev libsuitesparse-dev libopenblas-dev python3 python3-matplotlib)
-fuzz=(clang libclang-rt-14-dev)
+fuzz=(clang libclang-rt-14-dev nlohmann-json3-dev)
 tidy=(clang-tidy libsuitesparse-dev)
 # The Python package (scripts/python.sh): the venv, the headers, Debian's numpy and matplotlib, the viewer's libraries.
 python=(python3 python3-venv python3-dev python3-numpy python3-matplotlib libosmesa6-dev libpng-dev libcli11-dev
-        libtomlplusplus-dev libtinyobjloader-dev)
+        libtomlplusplus-dev libtinyobjloader-dev nlohmann-json3-dev)
 
 groups=("$@")
 [ ${#groups[@]} -eq 0 ] && groups=(test viewer bench fuzz tidy python)

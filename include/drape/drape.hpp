@@ -70,6 +70,7 @@
 #include "drape/physics/aerodynamic_force.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/physics/dihedral_bending.hpp"
+#include "drape/physics/seam_springs.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/drape_measures.hpp"
 
@@ -104,12 +105,17 @@
 // scene: several cloths stepped together, colliding with each other
 #include "drape/scene/cloth_scene.hpp"
 
+// garment: sewing patterns (panels, their curves, stitches), their outlines sampled and meshed,
+// the garment as one cloth mesh with its seam pairs
+#include "drape/garment/pattern_curves.hpp"
+#include "drape/garment/sewing_pattern.hpp"
+#include "drape/garment/outline_sampling.hpp"
+#include "drape/garment/panel_mesher.hpp"
+#include "drape/garment/garment_mesh.hpp"
+
 // realtime and io: pacing against the wall clock, files
 #include "drape/realtime/realtime_driver.hpp"
 #include "drape/io/atomic_file.hpp"
 #include "drape/io/obj.hpp"
 #include "drape/io/state_io.hpp"
 #include "drape/io/usd.hpp"
-
-// garment: sewing-pattern panels meshed
-#include "drape/garment/panel_mesher.hpp"

@@ -15,6 +15,7 @@
 #include <array>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "drape/collision/bounding_volume_hierarchy.hpp"
@@ -38,7 +39,11 @@ class MeshSweep {
   /// The step from vertex positions `start` to `end` (3 x n each): both surfaces and the swept boxes.
   /// \throws InvalidParameter naming `positions` (column count, finite).
   void update(const Matrix3X<Scalar>& start, const Matrix3X<Scalar>& end) {
-    m_start.set_positions(start);
+    // Step after step, this step's start is the last one's end: its surface is taken over.
+    if (start.cols() == m_end.positions().cols() && start == m_end.positions())
+      std::swap(m_start, m_end);
+    else
+      m_start.set_positions(start);
     m_end.set_positions(end);
     m_swept.refit(m_start.positions(), m_end.positions(), Scalar(0));
   }

@@ -22,9 +22,15 @@
 /// relative velocity \f$ u_t \f$ can be stopped by \f$ m |u_t| \le \mu_s j_n \f$ sticks
 /// (\f$ u_t = 0 \f$); otherwise it slides and \f$ |u_t| \f$ drops by \f$ \mu_k j_n / m \f$
 /// (Bridson, Fedkiw & Anderson 2002). A node in contact then moves by \f$ \Delta t\, v^{+} \f$.
-/// Finally every node is checked at its end position against every collider and pushed out to
-/// the distance h if it is deeper than h by more than the tolerance: the guarantee, counted in
-/// `ContactReport::corrected` (zero in the tested scenes).
+/// Last of the step, after the cloth against itself (keep_clear()), every node is checked at its
+/// end position against every collider and pushed out to the distance h if it is deeper than h by
+/// more than the tolerance: the guarantee, counted in `ContactReport::corrected`.
+/// Mesh colliders keep, per node, a lower bound on its distance to the surface (conservative
+/// advancement): the distance measured at the node's last exact query, at the end of a step, less
+/// how far the node has moved since in the collider's frame and how far the surface has moved (a
+/// deforming mesh: the largest vertex displacement of each step, summed). The distance is
+/// 1-Lipschitz, so a node whose bound exceeds the offset cannot touch the mesh this step and skips
+/// the tree: the answers are the same, only far nodes cost less.
 /// A key-framed (deforming) mesh collider is held per step as its surface at t and at t + dt with
 /// the swept boxes between (collision/mesh_sweep.hpp, made at its first step, refitted after): its
 /// queries take the surface of their end of the step, its surface velocity the vertices' motion
@@ -102,10 +108,16 @@ class ContactHandler {
               const ConstRef3X<Scalar>& v, Scalar dt, const std::vector<int>& row_of_node, ConstraintFilter<Scalar>& c);
 
   /// Both integrators, on the step's result `x_new`, `v_new` from (x, v) at t: the RK2 contact
-  /// impulses (nodes not already constrained), friction, and the end-of-step check. Nodes with
-  /// `pinned[i] != 0` follow their pins and are left alone.
+  /// impulses (nodes not already constrained) and friction. Nodes with `pinned[i] != 0` follow
+  /// their pins and are left alone.
   void respond(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt, Ref3X<Scalar> x_new,
                Ref3X<Scalar> v_new, const std::vector<std::uint8_t>& pinned);
+
+  /// The end-of-step check, after respond() and after the cloth against itself (whose pushes may
+  /// move a node that no contact holds towards a collider): every free node at its end position
+  /// against every collider at the step's end; one deeper than h by more than the tolerance is
+  /// pushed out to h and loses its approaching velocity (`ContactReport::corrected`).
+  void keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new, const std::vector<std::uint8_t>& pinned);
 
  private:
   struct Contact {
@@ -145,6 +157,15 @@ class ContactHandler {
   ColliderContact<Scalar> query(std::size_t k, const Vec3<Scalar>& x, bool at_end) const;
   /// The first s at which the path x0 (t) -> x1 (t + dt) comes within `offset` of collider k, -1 if never.
   Scalar first_contact(std::size_t k, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar offset) const;
+  /// A lower bound on how near node i's path p0 (t) -> p1 (t + dt), in mesh collider k's frame,
+  /// comes to the surface during the step (-infinity when nothing is known).
+  Scalar clearance(std::size_t k, int i, const Vec3<Scalar>& p0, const Vec3<Scalar>& p1) const {
+    const Clearance& c = m_clearance[k];
+    const Scalar measured = c.distance[i];
+    if (!(measured > 0)) return -std::numeric_limits<Scalar>::infinity();
+    const Scalar moved = std::max((p0 - c.at.col(i)).norm(), (p1 - c.at.col(i)).norm());
+    return measured - moved - (m_travel[k] - c.travel_at[i]);
+  }
   /// The first collider the path x0 (t) -> x1 (t + dt) reaches within `offset`, as a contact
   /// taken at the start; false if none.
   bool sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar dt, Scalar offset, Contact& out) const;
@@ -167,6 +188,16 @@ class ContactHandler {
   // Per collider: a deforming mesh over this step (null for the others), made at its first step.
   std::vector<std::unique_ptr<MeshSweep<Scalar>>> m_sweeps;
   Matrix3X<Scalar> m_frame_start, m_frame_end;  // scratch: a deforming mesh's vertices at t and t + dt
+  // Per mesh collider (empty for the others): each node's position in the collider's frame at its
+  // last exact query, the distance measured there (-infinity: none) and the surface's travel then.
+  struct Clearance {
+    Matrix3X<Scalar> at;
+    VectorX<Scalar> distance;
+    VectorX<Scalar> travel_at;
+  };
+  std::vector<Clearance> m_clearance;
+  std::vector<Scalar> m_travel;  // per collider: how far its surface has moved, summed to this step's end
+  Scalar m_last_end = std::numeric_limits<Scalar>::quiet_NaN();  // when the last step ended
   Scalar m_dt = 0;                              // this step's
   ContactReport<Scalar> m_report;
   bool m_constrained = false;  // constrain() began this step
@@ -193,12 +224,27 @@ void ContactHandler<Scalar>::bound(Scalar t, Scalar dt) {
   }
   m_dt = dt;
   m_sweeps.resize(colliders.size());
+  m_clearance.resize(colliders.size());
+  m_travel.resize(colliders.size(), Scalar(0));
+  const Index nodes = m_masses->size();
+  // A deforming mesh's bounds hold from one step to the next only; after a jump in time they go.
+  const bool continues = t == m_last_end;
+  m_last_end = t + dt;
   for (std::size_t k = 0; k < colliders.size(); ++k) {
-    if (!colliders[k].deforms()) continue;
+    if (colliders[k].kind() != ShapeKind::Mesh) continue;
+    Clearance& c = m_clearance[k];
+    if (c.distance.size() != nodes) {
+      c.at = Matrix3X<Scalar>::Zero(3, nodes);
+      c.distance = VectorX<Scalar>::Constant(nodes, -std::numeric_limits<Scalar>::infinity());
+      c.travel_at = VectorX<Scalar>::Zero(nodes);
+    }
+    if (!colliders[k].deforms()) continue;  // the surface is fixed in its own frame
+    if (!continues) c.distance.fill(-std::numeric_limits<Scalar>::infinity());
     colliders[k].mesh_positions(t, m_frame_start);
     colliders[k].mesh_positions(t + dt, m_frame_end);
     if (!m_sweeps[k]) m_sweeps[k] = std::make_unique<MeshSweep<Scalar>>(colliders[k].mesh()->triangles(), m_frame_start);
     m_sweeps[k]->update(m_frame_start, m_frame_end);
+    m_travel[k] += (m_frame_end - m_frame_start).colwise().norm().maxCoeff();
   }
 }
 
@@ -232,6 +278,10 @@ bool ContactHandler<Scalar>::sweep(int node, const Vec3<Scalar>& x0, const Vec3<
   const Scalar half_travel = Scalar(0.5) * (x1 - x0).norm();
   for (std::size_t k = 0; k < colliders.size(); ++k) {
     if (!may_reach(k, x0, x1, middle, half_travel, offset)) continue;
+    if (colliders[k].kind() == ShapeKind::Mesh &&
+        clearance(k, node, m_bounds[k].start.to_local(x0), m_bounds[k].end.to_local(x1)) >
+            offset + detail::swept_tolerance(offset))
+      continue;
     const Scalar s = first_contact(k, x0, x1, offset);
     if (s >= 0 && s < first) {
       first = s;
@@ -378,7 +428,6 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
     bound(t, dt);
   }
   m_constrained = false;
-  const std::vector<Collider<Scalar>>& colliders = *m_colliders;
   const VectorX<Scalar>& masses = *m_masses;
   const Scalar h = m_thickness;
   for (Index i = 0; i < x.cols(); ++i) {
@@ -406,13 +455,30 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
     v_new.col(i) = velocity;
     x_new.col(i) = x.col(i) + dt * velocity;
   }
+}
+
+template <class Scalar>
+void ContactHandler<Scalar>::keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new,
+                                        const std::vector<std::uint8_t>& pinned) {
+  if (!active()) return;
+  const std::vector<Collider<Scalar>>& colliders = *m_colliders;
+  const Scalar h = m_thickness;
   // The guarantee: no node ends deeper than the tolerance.
   const Scalar tolerance = m_tolerance;
-  for (Index i = 0; i < x.cols(); ++i) {
+  for (Index i = 0; i < x_new.cols(); ++i) {
     if (pinned[static_cast<std::size_t>(i)] != 0) continue;
     for (std::size_t k = 0; k < colliders.size(); ++k) {
       if (!may_reach(k, x_new.col(i), x_new.col(i), x_new.col(i), 0, h)) continue;
+      const bool mesh = colliders[k].kind() == ShapeKind::Mesh;
+      const Vec3<Scalar> local = mesh ? m_bounds[k].end.to_local(x_new.col(i)) : Vec3<Scalar>::Zero();
+      if (mesh && clearance(k, static_cast<int>(i), local, local) >= h) continue;
       const ColliderContact<Scalar> q = query(k, x_new.col(i), true);
+      if (mesh) {
+        Clearance& c = m_clearance[k];
+        c.at.col(i) = local;
+        c.distance[i] = q.distance;
+        c.travel_at[i] = m_travel[k];
+      }
       if (q.distance >= h) continue;
       m_report.deepest = std::max(m_report.deepest, h - q.distance);
       if (q.distance >= h - tolerance) continue;

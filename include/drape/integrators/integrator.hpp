@@ -74,6 +74,9 @@ class Integrator {
   const PinSet<Scalar>& pins() const { return m_pins; }
   /// The contacts with the cloth's colliders (which nodes they held in the last step).
   const ContactHandler<Scalar>& contact_handler() const { return m_contacts; }
+  /// The colliders' end-of-step check (ContactHandler::keep_clear) again, on a result moved after
+  /// the step (a ClothScene's pushes between its cloths).
+  void keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new) { m_contacts.keep_clear(x_new, v_new, m_pins.mask()); }
   /// What the cloth's contacts did in the last step (empty without colliders).
   const ContactReport<Scalar>& contact_report() const { return m_contacts.report(); }
   /// What the cloth's self-collision did in the last step (empty when it is off).
@@ -103,7 +106,7 @@ class Integrator {
   ContactHandler<Scalar>& contacts() { return m_contacts; }
 
   /// The end of every integrator's step, on its result `x_new`, `v_new` from `state`: contacts
-  /// with the colliders, then the cloth against itself.
+  /// with the colliders, then the cloth against itself, then the colliders' end-of-step check.
   void respond_to_contacts(const State<Scalar>& state, Scalar dt, Matrix3X<Scalar>& x_new, Matrix3X<Scalar>& v_new) {
     m_contacts.respond(state.positions, state.velocities, state.time, dt, x_new, v_new, m_pins.mask());
 #ifndef DRAPE_BUILD_WITHOUT_SELF_COLLISION  // defined only by the test that off changes nothing
@@ -111,6 +114,7 @@ class Integrator {
       m_self_collisions.respond(state.positions, dt, x_new, v_new, m_pins.mask(),
                                 [this](int i) { return m_contacts.hold(i); });
 #endif
+    m_contacts.keep_clear(x_new, v_new, m_pins.mask());
   }
 
  private:

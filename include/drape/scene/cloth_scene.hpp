@@ -161,6 +161,8 @@ StepStatus ClothScene<Scalar>::step() {
     if (!(m_x1.allFinite() && m_v1.allFinite())) status.error = StepError::NonFiniteState;
     for (std::size_t k = 0; k < m_states.size() && status.ok(); ++k) {
       const Index begin = m_offset[k], count = m_cloths[k]->node_count();
+      // The pushes between the cloths come after each cloth's own end-of-step check: check again.
+      m_integrators[k]->keep_clear(m_x1.middleCols(begin, count), m_v1.middleCols(begin, count));
       m_states[k].positions = m_x1.middleCols(begin, count);
       m_states[k].velocities = m_v1.middleCols(begin, count);
     }

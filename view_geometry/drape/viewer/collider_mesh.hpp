@@ -101,8 +101,8 @@ std::vector<Eigen::Vector3f> local_collider_mesh(const Collider<Scalar>& collide
       Matrix3X<Scalar> x;
       collider.mesh_positions(t, x);
       triangles.reserve(3 * collider.mesh()->triangles().size());
-      for (const std::array<int, 3>& t : collider.mesh()->triangles())
-        for (int k : t) triangles.push_back(x.col(k).template cast<float>());
+      for (const std::array<int, 3>& face : collider.mesh()->triangles())
+        for (int k : face) triangles.push_back(x.col(k).template cast<float>());
       return triangles;
     }
   }

@@ -36,6 +36,19 @@ inline double orientation(const Point2& a, const Point2& b, const Point2& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
 }
 
+/// Whether the closed segments (a, b) and (c, d) share a point.
+inline bool segments_meet(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  const double d1 = orientation(c, d, a), d2 = orientation(c, d, b), d3 = orientation(a, b, c),
+               d4 = orientation(a, b, d);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
+  const auto within = [](const Point2& p, const Point2& q, const Point2& r) {  // r on the line pq: inside its box?
+    return r.x() >= std::min(p.x(), q.x()) && r.x() <= std::max(p.x(), q.x()) && r.y() >= std::min(p.y(), q.y()) &&
+           r.y() <= std::max(p.y(), q.y());
+  };
+  return (d1 == 0 && within(c, d, a)) || (d2 == 0 && within(c, d, b)) || (d3 == 0 && within(a, b, c)) ||
+         (d4 == 0 && within(a, b, d));
+}
+
 /// Whether d lies clearly inside the circle through the counter-clockwise a, b, c: the determinant
 /// exceeds its possible rounding error many times over (a near-tie counts as outside).
 inline bool inside_circumcircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
