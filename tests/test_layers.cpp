@@ -117,6 +117,12 @@ TEST_CASE("the umbrella header includes every core header but the opt-in and opt
       CHECK(in_umbrella.count(name) == 0);
       continue;
     }
+    // The garment layer is included on its own (drape/garment/garment_mesh.hpp): the pattern, its
+    // curves and the panel mesher are not compiled into every user of the umbrella.
+    if (relative.begin()->string() == "garment") {
+      CHECK(in_umbrella.count(name) == 0);
+      continue;
+    }
     CHECK(in_umbrella.count(name) + left_out.count(name) == 1);
   }
 }

@@ -105,13 +105,8 @@
 // scene: several cloths stepped together, colliding with each other
 #include "drape/scene/cloth_scene.hpp"
 
-// garment: sewing patterns (panels, their curves, stitches), their outlines sampled and meshed,
-// the garment as one cloth mesh with its seam pairs
-#include "drape/garment/pattern_curves.hpp"
-#include "drape/garment/sewing_pattern.hpp"
-#include "drape/garment/outline_sampling.hpp"
-#include "drape/garment/panel_mesher.hpp"
-#include "drape/garment/garment_mesh.hpp"
+// garment (sewing patterns, panels meshed, the garment as one cloth mesh): included on its own,
+// drape/garment/garment_mesh.hpp and the headers below it, not by every user of the umbrella
 
 // realtime and io: pacing against the wall clock, files
 #include "drape/realtime/realtime_driver.hpp"
