@@ -190,7 +190,7 @@ void bind_settings(nb::module_& m) {
       .def(
           "__init__",
           [](SelfCollision* self, bool enabled, double friction, int impulse_rounds, double separation_rate) {
-            new (self) SelfCollision{enabled, friction, impulse_rounds, separation_rate};
+            new (self) SelfCollision{enabled, friction, impulse_rounds, separation_rate, {}};
           },
           "enabled"_a = false, "friction"_a = 0.3, "impulse_rounds"_a = 4, "separation_rate"_a = 0.5)
       .def_rw("enabled", &SelfCollision::enabled, "On: layers keep twice the contact thickness apart.")

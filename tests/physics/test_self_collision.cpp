@@ -3,7 +3,9 @@
 // (brute force, tests/collision/mesh_checks.hpp) finds no intersection at any step, and pairs of
 // primitives that share no node keep a stated fraction of the layer distance; the same scenes
 // without self-collision do pass through themselves (so the checks can fail); the fail-safe alone
-// keeps the cloth apart; friction between layers; determinism; bad input.
+// keeps the cloth apart; friction between layers; determinism; bad input. Joined nodes (the sides
+// of a seam): a closed seam stays closed where it is pushed apart without them, a panel dropped
+// onto the seam is still held off, pairs that share a node join all theirs, bad ids named.
 #include <catch2/catch.hpp>
 
 #include <array>
@@ -12,9 +14,12 @@
 #include <functional>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include "collision/cloth_shapes.hpp"
 #include "collision/mesh_checks.hpp"
+#include "drape/collision/mesh_topology.hpp"
+#include "drape/core/mesh_generators.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/make_integrator.hpp"
 #include "model/mesh_helpers.hpp"
@@ -377,4 +382,259 @@ TEST_CASE("self-collision on an irregular mesh cloth: folded over itself, it res
       CHECK(top / count == Approx(3 * 0.01).margin(0.005));
     }
   }
+}
+
+namespace {
+
+/// Appends an nx x nz panel of 0.1 m grid cells to `mesh`, in the x-z plane from `origin` (node
+/// (i, j) at origin + (0.1 i, 0, 0.1 j), counter-clockwise seen from +y); its nodes follow the
+/// mesh's. Returns its node (i, j) as an id of the mesh.
+std::function<int(int, int)> add_panel(ClothMesh<double>& mesh, int nx, int nz, const Vec3<double>& origin) {
+  const ClothMesh<double> panel = grid_mesh<double>(nx, nz, 0.1);
+  const int first = mesh.vertex_count();
+  Matrix3X<double> positions(3, first + panel.vertex_count());
+  positions.leftCols(first) = mesh.positions;
+  positions.rightCols(panel.vertex_count()) = panel.positions.colwise() + origin;
+  mesh.positions = positions;
+  for (const std::array<int, 3>& t : panel.triangles)
+    mesh.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+  return [first, nx](int i, int j) { return first + j * nx + i; };  // grid_mesh: node (i, j) is j nx + i
+}
+
+/// Two 5 x 5-node panels side by side in the x-z plane with a closed seam: the first's right
+/// edge (x = 0.4) and the second's left edge (x = 0.4 + gap) are separate nodes, sewn pairwise.
+struct SewnPanels {
+  ClothMesh<double> mesh;
+  std::vector<std::array<int, 2>> seam;
+};
+SewnPanels closed_seam(double gap = 0) {
+  SewnPanels out;
+  const auto left = add_panel(out.mesh, 5, 5, Vec3<double>::Zero());
+  const auto right = add_panel(out.mesh, 5, 5, Vec3<double>(0.4 + gap, 0, 0));
+  for (int j = 0; j < 5; ++j) out.seam.push_back({left(4, j), right(0, j)});
+  return out;
+}
+
+/// A free cloth of `mesh` as folding_cloth() (h = 1 cm, self-collision on), gravity off.
+ClothSpec<double> panel_cloth(const ClothMesh<double>& mesh, const std::vector<std::array<int, 2>>& joined) {
+  ClothSpec<double> spec = folding_cloth<double>(3, 3);
+  spec.mesh = mesh;
+  spec.gravity = 0;
+  spec.self_collision.joined_nodes = joined;
+  return spec;
+}
+
+/// The widest distance between the nodes of a pair.
+double widest_gap(const Matrix3X<double>& x, const std::vector<std::array<int, 2>>& pairs) {
+  double widest = 0;
+  for (const auto& [a, b] : pairs) widest = std::max(widest, (x.col(a) - x.col(b)).norm());
+  return widest;
+}
+
+/// Takes 10 steps of a cloth at rest; returns how far any node moved and the widest gap of `pairs`
+/// at the end, and sums what self-collision did over the steps into `seen`.
+std::pair<double, double> rest_run(const Clothd& cloth, IntegratorKind kind,
+                                   const std::vector<std::array<int, 2>>& pairs, SelfCollisionReport& seen) {
+  auto stepper = integrator(cloth, kind);
+  State<double> state = cloth.initial_state();
+  seen = {};
+  for (int k = 0; k < 10; ++k) {
+    REQUIRE(stepper->step(state).ok());
+    const SelfCollisionReport& r = stepper->self_collision_report();
+    seen.proximity_pairs += r.proximity_pairs;
+    seen.repulsions += r.repulsions;
+    seen.impacts += r.impacts;
+    seen.zones += r.zones;
+  }
+  const double moved = (state.positions - cloth.start_positions()).colwise().norm().maxCoeff();
+  return {moved, widest_gap(state.positions, pairs)};
+}
+
+/// The triangles of `triangles` whose corners all pass `keep`, with their nodes renumbered in the
+/// order they first appear, and those nodes' columns of x: a mesh of its own for the checks of
+/// mesh_checks.hpp, which count every column of x.
+std::pair<Matrix3X<double>, std::vector<std::array<int, 3>>> part_of(const Matrix3X<double>& x,
+                                                                    const std::vector<std::array<int, 3>>& triangles,
+                                                                    const std::function<bool(int)>& keep) {
+  std::vector<int> index(std::size_t(x.cols()), -1);
+  std::vector<int> used;
+  std::vector<std::array<int, 3>> part;
+  for (const std::array<int, 3>& t : triangles) {
+    if (!keep(t[0]) || !keep(t[1]) || !keep(t[2])) continue;
+    std::array<int, 3> renumbered{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      int& id = index[std::size_t(t[k])];
+      if (id < 0) {
+        id = int(used.size());
+        used.push_back(t[k]);
+      }
+      renumbered[k] = id;
+    }
+    part.push_back(renumbered);
+  }
+  Matrix3X<double> xs(3, Index(used.size()));
+  for (std::size_t k = 0; k < used.size(); ++k) xs.col(Index(k)) = x.col(used[k]);
+  return {xs, part};
+}
+
+}  // namespace
+
+TEST_CASE("self-collision with joined nodes: the two sides of a closed seam do not push each other apart",
+          "[self-collision][joined]") {
+  for (const double gap : {0.0, 0.001}) {
+    const SewnPanels panels = closed_seam(gap);
+    for (IntegratorKind kind : {IntegratorKind::Rk2, IntegratorKind::Implicit}) {
+      INFO(to_string(kind) << ", seam closed to " << gap << " m");
+      SelfCollisionReport seen;
+      // Joined: no pair across the seam is tested, so nothing moves.
+      const Clothd joined(panel_cloth(panels.mesh, panels.seam));
+      const auto [moved, widest] = rest_run(joined, kind, panels.seam, seen);
+      CHECK(moved < 1e-12);
+      CHECK(std::abs(widest - gap) < 1e-12);
+      CHECK(seen.proximity_pairs == 0);
+      CHECK(seen.repulsions == 0);
+      CHECK(seen.impacts == 0);
+      CHECK(seen.zones == 0);
+      // Not joined (the check can fail): a seam node and the other panel's triangles and edges at
+      // its partner are closer than 2h. Coincident, they touch: every step crosses and needs the
+      // fail-safe, which moves the seam's region; 1 mm apart, they are pushed towards 2h apart.
+      const Clothd apart(panel_cloth(panels.mesh, {}));
+      const auto [moved_apart, widest_apart] = rest_run(apart, kind, panels.seam, seen);
+      if (gap == 0) {
+        CHECK(seen.impacts > 0);
+        CHECK(seen.zones > 0);
+        CHECK(moved_apart > 1e-4);
+      } else {
+        CHECK(seen.repulsions > 0);
+        CHECK(widest_apart > 0.5 * 2 * apart.contact_thickness());
+      }
+    }
+  }
+}
+
+TEST_CASE("self-collision with joined nodes: a panel dropped onto a closed seam is still held off by it",
+          "[self-collision][joined]") {
+  // The sewn panels lie on a floor; a third 0.4 m square panel falls onto them across the seam.
+  // Its nodes are joined to none: every pair between it and the seam's panels is still tested.
+  for (const bool enabled : {true, false}) {
+    for (IntegratorKind kind : {IntegratorKind::Implicit, IntegratorKind::Rk2}) {
+      if (!enabled && kind != IntegratorKind::Implicit) continue;
+      INFO(to_string(kind) << (enabled ? "" : ", self-collision off"));
+      SewnPanels panels = closed_seam();
+      const double h = 0.01;
+      panels.mesh.positions.row(1).setConstant(h);  // resting on the floor
+      const int sewn = panels.mesh.vertex_count();
+      add_panel(panels.mesh, 5, 5, Vec3<double>(0.2, h + 0.06, 0.05));
+      ClothSpec<double> spec = panel_cloth(panels.mesh, panels.seam);
+      spec.gravity = 10;
+      spec.self_collision.enabled = enabled;
+      spec.colliders.push_back(Colliderd::plane(Vec3<double>::Zero(), Vec3<double>(0, 1, 0)).set_friction(0.3, 0.3));
+      const Clothd cloth(spec);
+      auto stepper = integrator(cloth, kind);
+      State<double> state = cloth.initial_state();
+      state.velocities.rightCols(cloth.node_count() - sewn).row(1).setConstant(-3.0);
+      const auto left = [&](int v) { return v < 25 || v >= sewn; };
+      const auto right = [&](int v) { return v >= 25; };
+      int first_crossing = -1;
+      double closest = 1e30;
+      const int steps = int(std::lround(0.5 / stepper->dt()));
+      for (int k = 0; k < steps; ++k) {
+        REQUIRE(stepper->step(state).ok());
+        CHECK(stepper->self_collision_report().unresolved == 0);
+        // The dropped panel with each sewn panel, each a mesh of its own (brute force).
+        for (const auto& keep : {std::function<bool(int)>(left), std::function<bool(int)>(right)}) {
+          const auto [x, triangles] = part_of(state.positions, cloth.triangles(), keep);
+          if (first_crossing < 0 && test::first_intersection(x, triangles).found) first_crossing = k;
+          closest = std::min(closest, test::min_nonadjacent_distance(x, triangles));
+        }
+      }
+      const double dropped_height = state.positions.rightCols(cloth.node_count() - sewn).row(1).mean();
+      if (!enabled) {
+        CHECK(first_crossing >= 0);  // the check can fail
+        continue;
+      }
+      CHECK(first_crossing == -1);
+      CHECK(closest >= 0.01 * 2 * h);
+      CHECK(dropped_height == Approx(3 * h).margin(0.5 * h));  // on the sewn panels, a layer above them
+      CHECK(widest_gap(state.positions, panels.seam) < 0.1 * h);
+    }
+  }
+}
+
+TEST_CASE("self-collision with joined nodes: pairs that share a node join all three (a corner where seams meet)",
+          "[self-collision][joined]") {
+  // Three panels round a corner at the origin: a (x < 0, z > 0) and b (x > 0, z < 0) each sewn to
+  // c (x > 0, z > 0) along an edge. a's and b's corners at the origin are sewn to c's only, yet
+  // the three are one: a's corner touches b's triangles there, and must not push them.
+  ClothMesh<double> mesh;
+  const auto a = add_panel(mesh, 5, 5, Vec3<double>(-0.4, 0, 0));
+  const auto b = add_panel(mesh, 5, 5, Vec3<double>(0, 0, -0.4));
+  const auto c = add_panel(mesh, 5, 5, Vec3<double>(0, 0, 0));
+  std::vector<std::array<int, 2>> seams;
+  for (int j = 0; j < 5; ++j) seams.push_back({a(4, j), c(0, j)});
+  for (int i = 0; i < 5; ++i) seams.push_back({b(i, 4), c(i, 0)});
+  const std::vector<std::array<int, 2>> reversed(seams.rbegin(), seams.rend());
+  const std::vector<std::array<int, 2>> corners = {{a(4, 0), b(0, 4)}};
+  for (const bool in_order : {true, false}) {
+    INFO((in_order ? "in order" : "reversed"));
+    const std::vector<std::array<int, 2>>& pairs = in_order ? seams : reversed;
+    const MeshTopology topology(mesh.vertex_count(), mesh.all_triangles(), pairs);
+    CHECK(topology.representative(b(0, 4)) == a(4, 0));  // the lowest of the three
+    CHECK(topology.representative(c(0, 0)) == a(4, 0));
+    CHECK(topology.representative(c(1, 0)) == b(1, 4));
+    CHECK(topology.representative(a(1, 1)) == a(1, 1));
+    for (int t = 0; t < topology.triangle_count(); ++t)  // a's corner belongs to b's triangles at b's corner
+      CHECK(topology.triangle_has_node(t, a(4, 0)) ==
+            (topology.triangle_has_node(t, b(0, 4)) || topology.triangle_has_node(t, c(0, 0))));
+    for (IntegratorKind kind : {IntegratorKind::Rk2, IntegratorKind::Implicit}) {
+      INFO(to_string(kind));
+      const Clothd cloth(panel_cloth(mesh, pairs));
+      SelfCollisionReport seen;
+      const auto [moved, gap] = rest_run(cloth, kind, corners, seen);
+      CHECK(moved < 1e-12);
+      CHECK(seen.proximity_pairs + seen.repulsions + seen.impacts + seen.zones == 0);
+    }
+  }
+  // The seams without the corner's pairs (the check can fail): the three corners touch there and
+  // cross every step.
+  std::vector<std::array<int, 2>> without_corner;
+  for (const std::array<int, 2>& p : seams)
+    if (p[1] != c(0, 0)) without_corner.push_back(p);
+  REQUIRE(without_corner.size() == seams.size() - 2);
+  const Clothd unjoined(panel_cloth(mesh, without_corner));
+  SelfCollisionReport seen;
+  const double moved = rest_run(unjoined, IntegratorKind::Implicit, corners, seen).first;
+  CHECK(seen.impacts > 0);
+  CHECK(moved > 1e-4);
+}
+
+TEST_CASE("self-collision: bad joined nodes are named", "[self-collision][joined][validation]") {
+  const SewnPanels panels = closed_seam();  // 50 nodes
+  auto message = [&](const std::vector<std::array<int, 2>>& joined, bool enabled) {
+    ClothSpec<double> spec = panel_cloth(panels.mesh, joined);
+    spec.self_collision.enabled = enabled;
+    try {
+      Clothd cloth(spec);
+    } catch (const InvalidParameter& e) { return std::string(e.what()); }
+    return std::string();
+  };
+  CHECK_THAT(message({{0, 1}, {4, 50}}, true), Catch::Contains("'self joined nodes[1]'") && Catch::Contains("[0, 50)"));
+  CHECK_THAT(message({{-1, 3}}, true), Catch::Contains("'self joined nodes[0]'"));
+  CHECK_THAT(message({{0, 1}, {2, 3}, {7, 7}}, true), Catch::Contains("'self joined nodes[2]'"));
+  CHECK_THAT(message({{4, 50}}, false), Catch::Contains("'self joined nodes[0]'"));  // checked with it off too
+  CHECK(message(panels.seam, true).empty());
+  // A grid cloth's nodes.
+  ClothSpec<double> grid;
+  grid.self_collision.joined_nodes = {{0, 1089}};
+  CHECK_THROWS_WITH(Clothd{grid}, Catch::Contains("'self joined nodes[0]'") && Catch::Contains("[0, 1089)"));
+  // The handler alone, and the topology.
+  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 4, 5}};
+  const Matrix3X<double> x = Matrix3X<double>::Random(3, 6);
+  SelfCollisionSettings<double> settings;
+  settings.enabled = true;
+  settings.joined_nodes = {{2, 6}};
+  CHECK_THROWS_WITH(SelfCollisionHandler<double>(settings, 0.005, triangles, VectorX<double>::Ones(6), x),
+                    Catch::Contains("'self joined nodes[0]'") && Catch::Contains("[0, 6)"));
+  CHECK_THROWS_WITH(MeshTopology(6, triangles, {{0, 3}, {5, 5}}), Catch::Contains("'joined'") &&
+                                                                       Catch::Contains("pair 1"));
 }

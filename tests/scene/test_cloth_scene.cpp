@@ -2,15 +2,19 @@
 // a scene of one cloth is that cloth stepped alone, bit for bit; two cloths stacked on a floor
 // rest with the upper one pushing on the lower with its weight; two cloths dropped onto each
 // other over a box never intersect (exact triangle-triangle test over the union of both meshes,
-// brute force) in either integrator, and do without the scene's collisions; determinism; bad input.
+// brute force) in either integrator, and do without the scene's collisions; determinism; bad input;
+// a closed seam stays closed with a cloth's or the scene's joined nodes and is pushed open without.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "collision/cloth_shapes.hpp"
 #include "collision/mesh_checks.hpp"
+#include "drape/core/mesh_generators.hpp"
 #include "drape/core/placement.hpp"
 #include "drape/fwd.hpp"
 #include "drape/scene/cloth_scene.hpp"
@@ -242,4 +246,67 @@ TEST_CASE("cloth scene: bad input names the cloth and the parameter", "[scene]")
   ClothSpec<double> thin = light_cloth<double>(5, 0.0);
   CHECK_THROWS_WITH(ClothScene<double>({thin}, IntegratorKind::Implicit, options, collisions_on<double>()),
                     Catch::Contains("'contact thickness'"));
+}
+
+TEST_CASE("cloth scene: joined nodes, a cloth's own or the scene's, keep a closed seam closed", "[scene][joined]") {
+  // Two 5 x 5 panels side by side with a seam closed to 1 mm (the first's nodes at x = 0.4, the
+  // second's at x = 0.401), gravity off: nothing moves unless the scene's collisions push across
+  // the seam, towards 2h = 2 cm apart.
+  ClothSpec<double> left = light_cloth<double>(5), right = left;
+  left.gravity = right.gravity = 0;
+  right.placement.position = Vec3<double>(0.401, 0, 0);
+  ClothMesh<double> panels;  // both in one cloth
+  const ClothMesh<double> panel = grid_mesh<double>(5, 5, 0.1);
+  panels.positions.resize(3, 50);
+  panels.positions << panel.positions, panel.positions.colwise() + Vec3<double>(0.401, 0, 0);
+  panels.triangles = panel.triangles;
+  for (std::array<int, 3> t : panel.triangles) panels.triangles.push_back({t[0] + 25, t[1] + 25, t[2] + 25});
+  std::vector<std::array<int, 2>> seam;  // the same ids in the one cloth and in the scene of two
+  for (int j = 0; j < 5; ++j) seam.push_back({j * 5 + 4, 25 + j * 5});
+  ClothSpec<double> sewn = left;
+  sewn.mesh = panels;
+
+  const ImplicitOptions options = options_for<double>(IntegratorKind::Implicit);
+  // The seam's widest gap after 0.1 s and the pairs the scene's collisions acted on.
+  auto run = [&](const std::vector<ClothSpec<double>>& cloths, const SelfCollisionSettings<double>& collisions) {
+    ClothScene<double> scene(cloths, IntegratorKind::Implicit, options, collisions);
+    int acted = 0;
+    for (int k = 0; k < 6; ++k) {
+      REQUIRE(scene.step().ok());
+      const SelfCollisionReport& r = scene.collision_report();
+      acted += r.proximity_pairs + r.repulsions + r.impacts + r.zones;
+    }
+    Matrix3X<double> x(3, scene.node_count());
+    for (int k = 0; k < scene.cloth_count(); ++k)
+      x.middleCols(scene.node_offset(k), scene.cloth(k).node_count()) = scene.state(k).positions;
+    double widest = 0;
+    for (const auto& [a, b] : seam) widest = std::max(widest, (x.col(a) - x.col(b)).norm());
+    return std::make_pair(widest, acted);
+  };
+  const double layer = 2 * left.contact_thickness;
+  {
+    INFO("one cloth, its own joined nodes");
+    sewn.self_collision.joined_nodes = seam;
+    const auto [gap, acted] = run({sewn}, collisions_on<double>());
+    CHECK(std::abs(gap - 0.001) < 1e-12);
+    CHECK(acted == 0);
+  }
+  {
+    INFO("one cloth, not joined (the check can fail)");
+    sewn.self_collision.joined_nodes.clear();
+    const auto [gap, acted] = run({sewn}, collisions_on<double>());
+    CHECK(gap > 0.5 * layer);
+    CHECK(acted > 0);
+  }
+  {
+    INFO("two cloths, the scene's joined nodes");
+    SelfCollisionSettings<double> collisions = collisions_on<double>();
+    collisions.joined_nodes = seam;
+    const auto [gap, acted] = run({left, right}, collisions);
+    CHECK(std::abs(gap - 0.001) < 1e-12);
+    CHECK(acted == 0);
+    collisions.joined_nodes = {{0, 1}, {3, 50}};
+    CHECK_THROWS_WITH(ClothScene<double>({left, right}, IntegratorKind::Implicit, options, collisions),
+                      Catch::Contains("'self joined nodes[1]'") && Catch::Contains("[0, 50)"));
+  }
 }

@@ -74,7 +74,8 @@ class TriangleBvh {
   /// Every unordered pair {a, b} of distinct triangles whose boxes overlap, as {a, b} with a < b,
   /// each once, including pairs that share nodes: a triangle's far corner against its neighbour is
   /// a genuine collision pair when the cloth folds along their common edge, so adjacency is left
-  /// to the narrow phase, feature by feature (MeshTopology::triangle_has_node, edges_share_node).
+  /// to the narrow phase, feature by feature (MeshTopology::triangle_has_node, edges_share_node,
+  /// which also answer for joined nodes).
   /// The order is the traversal's: a function of the tree (the positions it was built from and the
   /// leaf size) and of the boxes, the same on every run. `out` is cleared first and reused: no
   /// allocation once its capacity suffices.

@@ -23,6 +23,14 @@
 /// share nodes, since the far corner of A against B is a genuine pair when the cloth folds there.
 ///
 /// Nothing here assumes a grid: several cloths concatenated into one node numbering are one mesh.
+///
+/// Joined nodes: pairs of distinct nodes that count as one node for adjacency (the two sides of a
+/// garment's seam, sewn together). Every node has a representative, the lowest id of the nodes
+/// joined to it directly or through a chain of pairs (itself if none), and the adjacency queries
+/// compare representatives: a vertex joined to a corner of a triangle counts as a corner of it, two
+/// edges with joined ends share a node. Ownership and the broad phase go by node ids and do not
+/// change: joining only drops more pairs in the narrow phase. Without joined nodes every
+/// representative is the node itself and the queries compare the ids as given.
 
 #include <algorithm>
 #include <array>
@@ -54,9 +62,12 @@ class MeshTopology {
  public:
   /// The mesh of `triangles` over nodes `0 .. node_count - 1`. Nodes no triangle uses are allowed
   /// (they take no part in cloth-cloth collision and have no owner).
-  /// \throws InvalidParameter naming `node_count` if it is negative, or `triangles` if a triangle
-  /// has an id outside [0, node_count) or repeats a node.
-  MeshTopology(int node_count, std::vector<std::array<int, 3>> triangles);
+  /// `joined`: pairs of nodes that count as one node for adjacency (see the file comment).
+  /// \throws InvalidParameter naming `node_count` if it is negative, `triangles` if a triangle
+  /// has an id outside [0, node_count) or repeats a node, or `joined` if a pair has an id outside
+  /// [0, node_count) or joins a node to itself.
+  MeshTopology(int node_count, std::vector<std::array<int, 3>> triangles,
+               const std::vector<std::array<int, 2>>& joined = {});
 
   int node_count() const { return m_node_count; }
   int triangle_count() const { return static_cast<int>(m_triangles.size()); }
@@ -77,24 +88,41 @@ class MeshTopology {
   /// The edges triangle t owns (the ones no lower-index triangle contains), in corner order.
   IdRange owned_edges(int t) const { return range(m_owned_edges, m_owned_edge_begin, t); }
 
-  /// True if `node` is a corner of triangle t.
-  bool triangle_has_node(int t, int node) const {
-    const std::array<int, 3>& c = triangle(t);
-    return c[0] == node || c[1] == node || c[2] == node;
+  /// True if some pairs of nodes are joined.
+  bool has_joined_nodes() const { return !m_representative.empty(); }
+  /// The node that stands for `node` in the adjacency queries: the lowest id joined to it, directly
+  /// or through a chain of pairs; `node` itself if it is joined to none.
+  int representative(int node) const {
+    return m_representative.empty() ? node : m_representative[static_cast<std::size_t>(node)];
   }
-  /// True if edges e and f have a node in common (or are the same edge).
+
+  /// True if `node` is a corner of triangle t, or joined to one.
+  bool triangle_has_node(int t, int node) const {
+    const std::array<int, 3>& c = joined_corners(t);
+    const int v = representative(node);
+    return c[0] == v || c[1] == v || c[2] == v;
+  }
+  /// True if edges e and f have a node in common (or are the same edge), or joined nodes.
   bool edges_share_node(int e, int f) const {
-    const std::array<int, 2>& p = edge(e);
-    const std::array<int, 2>& q = edge(f);
+    const std::array<int, 2>& p = joined_ends(e);
+    const std::array<int, 2>& q = joined_ends(f);
     return p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1];
   }
-  /// True if triangles s and t have a node in common (or are the same triangle).
+  /// True if triangles s and t have a node in common (or are the same triangle), or joined nodes.
   bool triangles_share_node(int s, int t) const {
     const std::array<int, 3>& c = triangle(s);
     return triangle_has_node(t, c[0]) || triangle_has_node(t, c[1]) || triangle_has_node(t, c[2]);
   }
 
  private:
+  /// Triangle t's corners as representatives (the corners themselves without joined nodes).
+  const std::array<int, 3>& joined_corners(int t) const {
+    return m_representative.empty() ? triangle(t) : m_joined_triangles[static_cast<std::size_t>(t)];
+  }
+  /// Edge e's ends as representatives (the ends themselves without joined nodes).
+  const std::array<int, 2>& joined_ends(int e) const {
+    return m_representative.empty() ? edge(e) : m_joined_edges[static_cast<std::size_t>(e)];
+  }
   static IdRange range(const std::vector<int>& ids, const std::vector<int>& begin, int t) {
     const int* base = ids.data();
     const std::size_t k = static_cast<std::size_t>(t);
@@ -109,11 +137,17 @@ class MeshTopology {
   // m_owned_node_begin[t + 1]), likewise for edges.
   std::vector<int> m_owned_nodes, m_owned_node_begin;
   std::vector<int> m_owned_edges, m_owned_edge_begin;
+  // With joined nodes: each node's representative, and the triangles' corners and edges' ends as
+  // representatives. All empty without.
+  std::vector<int> m_representative;
+  std::vector<std::array<int, 3>> m_joined_triangles;
+  std::vector<std::array<int, 2>> m_joined_edges;
 };
 
 // ---------------------------------------------------------------------------------------------
 
-inline MeshTopology::MeshTopology(int node_count, std::vector<std::array<int, 3>> triangles)
+inline MeshTopology::MeshTopology(int node_count, std::vector<std::array<int, 3>> triangles,
+                                  const std::vector<std::array<int, 2>>& joined)
     : m_node_count(node_count), m_triangles(std::move(triangles)) {
   detail::require_at_least("node_count", node_count, 0);
   const std::size_t triangle_count = m_triangles.size();
@@ -173,6 +207,40 @@ inline MeshTopology::MeshTopology(int node_count, std::vector<std::array<int, 3>
     m_owned_node_begin.push_back(static_cast<int>(m_owned_nodes.size()));
     m_owned_edge_begin.push_back(static_cast<int>(m_owned_edges.size()));
   }
+
+  if (joined.empty()) return;
+  for (std::size_t k = 0; k < joined.size(); ++k) {
+    const std::array<int, 2>& p = joined[k];
+    if (!(p[0] >= 0 && p[0] < node_count && p[1] >= 0 && p[1] < node_count && p[0] != p[1]))
+      detail::fail_argument("joined",
+                            "pair " + detail::to_text(k) + " = (" + detail::to_text(p[0]) + ", " +
+                                detail::to_text(p[1]) + ")",
+                            "two distinct node ids in [0, " + detail::to_text(node_count) + ")");
+  }
+  // Union-find whose roots are the lowest ids of their sets: every parent is lower than its child.
+  std::vector<int>& parent = m_representative;
+  parent.resize(static_cast<std::size_t>(node_count));
+  for (int v = 0; v < node_count; ++v) parent[static_cast<std::size_t>(v)] = v;
+  const auto root = [&parent](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v) {  // path halving keeps parents below children
+      const int up = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+      parent[static_cast<std::size_t>(v)] = up;
+      v = up;
+    }
+    return v;
+  };
+  for (const std::array<int, 2>& p : joined) {
+    const int a = root(p[0]), b = root(p[1]);
+    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+  }
+  // In ascending order a node's parent (lower) already points at its root.
+  for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = parent[static_cast<std::size_t>(parent[v])];
+
+  m_joined_triangles.reserve(triangle_count);
+  for (const std::array<int, 3>& c : m_triangles)
+    m_joined_triangles.push_back({representative(c[0]), representative(c[1]), representative(c[2])});
+  m_joined_edges.reserve(m_edges.size());
+  for (const std::array<int, 2>& e : m_edges) m_joined_edges.push_back({representative(e[0]), representative(e[1])});
 }
 
 }  // namespace drape

@@ -5,8 +5,9 @@
 ///
 /// The step moved every node on a straight path from x0 (start) to x1 (end). The handler changes
 /// the ends x1 (and the velocities by the same amount over dt where momentum changes) in three stages,
-/// each on vertex-triangle and edge-edge pairs that share no node, found by a bounding volume
-/// hierarchy over the triangles (collision/bounding_volume_hierarchy.hpp):
+/// each on vertex-triangle and edge-edge pairs that share no node (nodes joined by
+/// `SelfCollisionSettings::joined_nodes`, the sides of a seam, count as one node), found by a
+/// bounding volume hierarchy over the triangles (collision/bounding_volume_hierarchy.hpp):
 ///  1. **Proximity**: a pair closer than the layer distance 2h at the start (h = the cloth's
 ///     half-thickness) may not come closer during the step along its start normal n (an inelastic
 ///     impulse, with Coulomb friction on the relative tangential motion), and is pushed a fraction
@@ -89,13 +90,18 @@ class SelfCollisionHandler {
   /// For any triangle mesh: a cloth's (its self_collision(), contact_thickness(), triangles(),
   /// masses(), start_positions()) or several cloths as one (their node ids one after the other):
   /// `masses` and `positions` (any pose, to shape the hierarchy) have a column per node.
-  /// \throws InvalidParameter as SelfCollisionSettings::validate().
+  /// The settings' joined nodes are ids of this numbering.
+  /// \throws InvalidParameter as SelfCollisionSettings::validate(), and when active as
+  /// validate(node count) (the joined nodes).
   SelfCollisionHandler(const SelfCollisionSettings<Scalar>& settings, Scalar contact_thickness,
                        const std::vector<std::array<int, 3>>& triangles, const VectorX<Scalar>& masses,
                        const Matrix3X<Scalar>& positions)
       : SelfCollisionHandler(settings, contact_thickness) {
     m_settings.validate();
-    if (active()) build(triangles, masses, positions);
+    if (active()) {
+      m_settings.validate(static_cast<int>(masses.size()));
+      build(triangles, masses, positions);
+    }
   }
 
   /// True if the cloth's self-collision is on (everything below is a no-op otherwise).
@@ -198,7 +204,7 @@ void SelfCollisionHandler<Scalar>::build(const std::vector<std::array<int, 3>>& 
   if (positions.cols() != n)
     detail::fail_argument("positions", detail::to_text(positions.cols()) + " nodes",
                           detail::to_text(n) + " (one per mass)");
-  m_topology.emplace(static_cast<int>(n), triangles);
+  m_topology.emplace(static_cast<int>(n), triangles, m_settings.joined_nodes);
   m_bvh.emplace(*m_topology, positions);
   m_mass = masses;
   m_inverse_mass.resize(n);

@@ -52,7 +52,8 @@ struct ClothSpec {
   std::vector<Collider<Scalar>> colliders;
   /// m: the cloth's half-thickness; nodes rest this far from a collider's surface.
   Scalar contact_thickness = Scalar(0.005);
-  /// The cloth against itself (contact/self_collision_settings.hpp); off by default.
+  /// The cloth against itself (contact/self_collision_settings.hpp); off by default. Its joined
+  /// nodes are this cloth's node ids.
   SelfCollisionSettings<Scalar> self_collision;
   /// Where the flat grid starts (core/placement.hpp); by default node 0 at the origin, in the x-z plane.
   Placement<Scalar> placement;
@@ -79,7 +80,7 @@ struct ClothSpec {
     for (const auto& term : force_terms)
       if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
     detail::require_nonnegative_finite("contact thickness", contact_thickness);
-    self_collision.validate();
+    self_collision.validate(mesh ? mesh->vertex_count() : nx * ny);
     if (self_collision.enabled && !(contact_thickness > 0))
       detail::fail_argument("contact thickness", "0 with self-collision on", "> 0 (layers keep twice it apart)");
     placement.validate();
@@ -239,7 +240,7 @@ Cloth<Scalar>::Cloth(Grid<Scalar> grid, SpringSet<Scalar> springs, Pins pins, co
   for (const auto& term : m_force_terms)
     if (!term) detail::fail_argument("force_terms", "a null pointer", "force terms that exist");
   detail::require_nonnegative_finite("contact thickness", m_contact_thickness);
-  m_self_collision.validate();
+  m_self_collision.validate(node_count());
   if (m_self_collision.enabled && !(m_contact_thickness > 0))
     detail::fail_argument("contact thickness", "0 with self-collision on", "> 0 (layers keep twice it apart)");
   require_pins_clear_of_colliders();

@@ -25,9 +25,12 @@ class ClothScene {
  public:
   /// Builds a cloth and an integrator of `kind` per spec. With `collisions.enabled`, the scene's
   /// handler takes every cloth-cloth contact (the cloths' own self_collision settings are then
-  /// not used; layers keep twice the largest contact thickness apart); without, each cloth
-  /// collides with itself as its spec says and never with the others.
-  /// \throws InvalidParameter naming `cloths[k]` and the parameter, or `cloths` if empty.
+  /// not used but for their joined nodes, which it joins too; layers keep twice the largest
+  /// contact thickness apart; `collisions.joined_nodes` are ids of the scene's numbering,
+  /// node_offset()); without, each cloth collides with itself as its spec says and never with the
+  /// others.
+  /// \throws InvalidParameter naming `cloths[k]` and the parameter, `cloths` if empty, or the
+  /// parameter of `collisions` (`self joined nodes[k]` for ids outside the scene's nodes).
   ClothScene(const std::vector<ClothSpec<Scalar>>& cloths, IntegratorKind kind, const ImplicitOptions& options,
              const SelfCollisionSettings<Scalar>& collisions);
 
@@ -99,15 +102,18 @@ SelfCollisionHandler<Scalar> ClothScene<Scalar>::make_handler(const std::vector<
   std::vector<std::array<int, 3>> triangles;
   VectorX<Scalar> masses(nodes);
   Matrix3X<Scalar> positions(3, nodes);
+  SelfCollisionSettings<Scalar> settings = collisions;  // with each cloth's joined nodes
   int offset = 0;
   for (const auto& c : cloths) {
     for (std::array<int, 3> t : c->triangles())
       triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    for (std::array<int, 2> p : c->self_collision().joined_nodes)
+      settings.joined_nodes.push_back({p[0] + offset, p[1] + offset});
     masses.segment(offset, c->node_count()) = c->masses();
     positions.middleCols(offset, c->node_count()) = c->start_positions();
     offset += c->node_count();
   }
-  return SelfCollisionHandler<Scalar>(collisions, thickness, triangles, masses, positions);
+  return SelfCollisionHandler<Scalar>(settings, thickness, triangles, masses, positions);
 }
 
 template <class Scalar>
