@@ -199,7 +199,9 @@ void bind_settings(nb::module_& m) {
               "Continuous-collision rounds with impulses before impact zones, [0, 64].")
       .def_rw("separation_rate", &SelfCollision::separation_rate,
               "Fraction of the missing distance restored per step, (0, 1].")
-      .def("validate", &SelfCollision::validate, "Raises InvalidParameter naming the setting.");
+      .def_rw("joined_nodes", &SelfCollision::joined_nodes,
+              "Pairs [a, b] of node ids sewn together: features touching either count as sharing a node.")
+      .def("validate", nb::overload_cast<>(&SelfCollision::validate, nb::const_), "Raises InvalidParameter naming the setting.");
 
   nb::class_<drape::GustSettings>(m, "GustSettings", "Gusts on top of the mean wind (none by default).")
       .def(
