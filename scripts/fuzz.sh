@@ -3,10 +3,12 @@
 # scene-file parser, the command-line handling of drape-render, the OBJ mesh reader and the
 # sewing-pattern reader.
 #   scripts/fuzz.sh [SECONDS_PER_TARGET=20] [TARGET...]     (targets: state_io scene cli obj pattern)
-# Builds the fuzzers in build/fuzz, runs each for SECONDS from fuzz/corpus/<target> (new inputs
-# go to build/fuzz/corpus/<target>, the repository's seed corpus is not modified), stops by
-# itself, and exits non-zero if any target found a crash (the reproducer is printed and kept in
-# build/fuzz/artifacts/). Prints the executions per target.
+# Builds the fuzzers in the sanitized tree (cmake --preset sanitize: clang, ASan + UBSan, build/asan,
+# where the sanitized test suite is built too, so drape's compiled instances are compiled once for
+# both), runs each for SECONDS from fuzz/corpus/<target> (new inputs go to build/fuzz/corpus/<target>,
+# the repository's seed corpus is not modified), stops by itself, and exits non-zero if any target
+# found a crash (the reproducer is printed and kept in build/fuzz/artifacts/). Prints the executions
+# per target.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-20}
@@ -15,14 +17,10 @@ targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(state_io scene cli obj pattern)
 command -v clang++ >/dev/null || { echo "fuzz.sh: needs clang++ (scripts/install-deps.sh fuzz)" >&2; exit 2; }
 
+cmake --preset sanitize >/dev/null
+cmake --build --preset sanitize --target $(printf 'fuzz_%s ' "${targets[@]}")
+fuzzers=build/asan/fuzz
 build=build/fuzz
-# -O1 -g1 (line tables: the stack traces of a finding): libFuzzer's recommended level, 18% less
-# compile time than -O2 -g for the heaviest source.
-cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-  -DDRAPE_BUILD_FUZZERS=ON -DDRAPE_BUILD_TESTS=OFF -DDRAPE_BUILD_EXAMPLES=OFF -DDRAPE_BUILD_BENCHMARKS=OFF \
-  -DDRAPE_BUILD_VIEWER=OFF -DDRAPE_USE_OPENMP=OFF -DDRAPE_WITH_SUITESPARSE=OFF >/dev/null
-cmake --build "$build" --target $(printf 'fuzz_%s ' "${targets[@]}")
 
 mkdir -p "$build/artifacts"
 status=0
@@ -34,7 +32,7 @@ for t in "${targets[@]}"; do
   # -close_fd_mask=1: the parsers' own stdout (CLI11 help text) is noise; libFuzzer reports on stderr.
   # -rss_limit_mb / -malloc_limit_mb: an input that makes the code allocate > 1 GB is a finding.
   if ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-     "$build/fuzz/fuzz_$t" "$work" "fuzz/corpus/$t" -max_total_time="$seconds" -timeout=10 \
+     "$fuzzers/fuzz_$t" "$work" "fuzz/corpus/$t" -max_total_time="$seconds" -timeout=10 \
        -rss_limit_mb=2048 -malloc_limit_mb=1024 -max_len=4096 -close_fd_mask=1 \
        -artifact_prefix="$build/artifacts/${t}-" -print_final_stats=1 >"$log" 2>&1; then
     execs=$(grep -m1 'stat::number_of_executed_units' "$log" | awk '{print $2}')

@@ -8,7 +8,9 @@ test=(catch2 libsuitesparse-dev libopenblas-dev libtinyobjloader-dev nlohmann-js
 viewer=(libosmesa6-dev libpng-dev libcli11-dev libtomlplusplus-dev libsuitesparse-dev libopenblas-dev
         libtinyobjloader-dev nlohmann-json3-dev)
 bench=(libbenchmark-dev libsuitesparse-dev libopenblas-dev python3 python3-matplotlib)
-fuzz=(clang libclang-rt-14-dev nlohmann-json3-dev)
+# fuzz: the sanitized tree (CMakePresets.json "sanitize"), built with clang and its OpenMP runtime.
+fuzz=(clang libclang-rt-14-dev libomp-14-dev catch2 libsuitesparse-dev libopenblas-dev libtinyobjloader-dev
+      nlohmann-json3-dev)
 tidy=(clang-tidy libsuitesparse-dev)
 # The Python package (scripts/python.sh): the venv, the headers, Debian's numpy and matplotlib, the viewer's libraries.
 python=(python3 python3-venv python3-dev python3-numpy python3-matplotlib libosmesa6-dev libpng-dev libcli11-dev
