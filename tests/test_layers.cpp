@@ -39,7 +39,7 @@ const std::map<std::string, std::set<std::string>> allowed = {
      {"platform", "core", "linalg", "collision", "contact", "model", "physics", "solvers", "integrators", "scene"}},
     {"realtime", {"platform", "core", "realtime"}},
     {"io", {"platform", "core", "io"}},
-    {"garment", {"platform", "core", "garment"}},
+    {"garment", {"platform", "core", "linalg", "collision", "contact", "model", "physics", "garment"}},
 };
 /// Headers at the top of include/drape that any layer may include.
 const std::set<std::string> shared_top = {"config.hpp", "fwd.hpp"};

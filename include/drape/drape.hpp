@@ -70,6 +70,7 @@
 #include "drape/physics/aerodynamic_force.hpp"
 #include "drape/physics/air.hpp"
 #include "drape/physics/dihedral_bending.hpp"
+#include "drape/physics/ramped_gravity.hpp"
 #include "drape/physics/seam_springs.hpp"
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/drape_measures.hpp"

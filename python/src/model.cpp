@@ -22,6 +22,11 @@
 
 #include "bindings.hpp"
 #include "drape/physics/diagnostics.hpp"
+#include "drape/garment/sewing_pattern.hpp"
+#if DRAPE_PYTHON_HAS_PATTERN_IO
+#include "drape/garment/garment.hpp"
+#include "drape/pattern_io/read_sewing_pattern.hpp"
+#endif
 #include "helpers.hpp"
 
 namespace drape::python {
@@ -523,6 +528,39 @@ void bind_spec_and_cloth(nb::module_& m) {
           "pin_reaction",
           [](const Cloth& c, const SharedState& s) { return array3(drape::pin_reaction(c, fitting_state(c, s))); },
           "state"_a, "N: the force the cloth's own pins exert on it (balances the weight at rest).");
+
+  nb::exception<drape::PatternError>(m, "PatternError", PyExc_ValueError);
+  m.def(
+      "load_pattern",
+      [](const std::string& path, double edge_length, const std::string& fabric, double seam_stiffness,
+         double seam_closing_time, double gravity) {
+#if DRAPE_PYTHON_HAS_PATTERN_IO
+        drape::SewingSettings sewing;
+        sewing.edge_length = edge_length;
+        sewing.seam_stiffness = seam_stiffness;
+        sewing.seam_closing_time = seam_closing_time;
+        sewing.gravity = gravity;
+        const drape::Garment garment = drape::dress_garment(drape::pattern_io::read_sewing_pattern(path),
+                                                            drape::fabric_preset(fabric), sewing);
+        ClothSpecWithAir spec;
+        static_cast<drape::ClothSpecd&>(spec) = garment.spec;
+        return spec;
+#else
+        (void)edge_length, (void)fabric, (void)seam_stiffness, (void)seam_closing_time, (void)gravity;
+        throw std::runtime_error("drape: load_pattern('" + path +
+                                 "'): this module was built without the sewing-pattern reader (apt-get install "
+                                 "nlohmann-json3-dev and rebuild)");
+#endif
+      },
+      "path"_a, "edge_length"_a = 0.015, "fabric"_a = "cotton", "seam_stiffness"_a = 500.0,
+      "seam_closing_time"_a = 1.0, "gravity"_a = 9.81,
+      "The garment of a GarmentCode JSON sewing pattern as a ClothSpec (docs/garments.md): every panel meshed at "
+      "edge_length (m) and placed by its transform, the fabric's springs, density and bending ('cotton', 'denim', "
+      "'silk', 'jersey'), seam springs (N/m per sewn pair) whose rest lengths reach zero at seam_closing_time (s), "
+      "gravity (m/s^2) coming on after that (spec.gravity is 0: a force term carries it), self-collision on with "
+      "the sewn vertices joined (spec.self_collision.joined_nodes). Add the body to spec.colliders. Raises "
+      "PatternError (a ValueError) naming the file and the JSON path of a bad pattern, InvalidParameter naming "
+      "the setting.");
 }
 
 void bind_state(nb::module_& m) {

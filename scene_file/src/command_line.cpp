@@ -305,6 +305,18 @@ void bind_mesh(Bindings& bind, Settings& s) {
   box->expected(6)->type_name("FLOAT");
   bind.value("bending", m.bending, "dihedral-angle bending stiffness in N m, >= 0 (0: off; docs/bending.md)", mesh);
   bind.value("bending-kd", m.bending_kd, "dihedral-angle bending damping in N m s, >= 0", mesh);
+  CLI::Option* pattern = bind.app().add_option("--pattern", m.pattern,
+                                               "GarmentCode JSON sewing pattern: the cloth is the garment sewn from it "
+                                               "(scene file: relative to the scene file's folder; docs/garments.md)");
+  pattern->group(mesh);
+  bind.keyed("pattern", pattern, [&m](const toml::node& n, const std::string& scene) {
+    m.pattern = scene_relative(from_toml<std::string>(n, "pattern", scene), scene);
+  });
+  bind.value("fabric", m.fabric, "--pattern: the garment's fabric: cotton | denim | silk | jersey (docs/fabrics.md)",
+             mesh);
+  bind.value("seam-stiffness", m.seam_stiffness, "--pattern: seam spring per sewn pair in N/m, > 0", mesh);
+  bind.value("seam-closing-time", m.seam_closing_time,
+             "--pattern: s until the seams are closed and gravity comes on, >= 0", mesh);
 }
 
 void bind_placement(Bindings& bind, Settings& s) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,10 @@
 #include "error_names.hpp"
 #if DRAPE_SCENE_FILE_HAS_MESH_IO
 #include "drape/mesh_io/read_obj.hpp"
+#endif
+#if DRAPE_SCENE_FILE_HAS_PATTERN_IO
+#include "drape/garment/garment.hpp"
+#include "drape/pattern_io/read_sewing_pattern.hpp"
 #endif
 
 namespace drape::scene_file::detail {
@@ -64,6 +69,57 @@ drape::ClothMesh<double> generated_mesh(const MeshSource& m, const KeyName& key)
   }
 }
 
+/// The garment of m.pattern (drape/garment/garment.hpp) as `spec`'s mesh, springs, density and
+/// force terms (seams, bending, gravity after the seams close: spec.gravity moves into that term),
+/// its seam pairs joined for self-collision.
+void apply_pattern(const MeshSource& m, drape::ClothSpecd& spec, const KeyName& key) {
+  if (!m.file.empty()) fail(key("pattern"), "'" + m.pattern + "' with a mesh file", "a pattern or a mesh, not both");
+  if (m.shape != "grid") fail(key("shape"), "'" + m.shape + "' with a pattern", "grid (the default) when a pattern gives the cloth");
+  if (m.density != 0) fail(key("density"), number(m.density), "0 with a pattern: the fabric sets the density");
+  if (m.bending != 0 || m.bending_kd != 0)
+    fail(key(m.bending != 0 ? "bending" : "bending-kd"), number(m.bending != 0 ? m.bending : m.bending_kd),
+         "0 with a pattern: the fabric sets the bending");
+#if DRAPE_SCENE_FILE_HAS_PATTERN_IO
+  drape::Fabric fabric;
+  try {
+    fabric = drape::fabric_preset(m.fabric);
+  } catch (const InvalidParameter& e) { fail(key("fabric"), e.value(), e.allowed()); }
+  drape::SewingSettings sewing;
+  sewing.edge_length = m.edge_length;
+  sewing.seam_stiffness = m.seam_stiffness;
+  sewing.seam_closing_time = m.seam_closing_time;
+  sewing.gravity = spec.gravity;
+  const std::map<std::string, std::string> key_of = {{"edge length", "edge-length"},
+                                                     {"seam stiffness", "seam-stiffness"},
+                                                     {"seam closing time", "seam-closing-time"},
+                                                     {"gravity", "gravity"}};
+  try {
+    sewing.validate();
+  } catch (const InvalidParameter& e) {
+    const auto it = key_of.find(e.parameter());
+    fail(key(it != key_of.end() ? it->second : e.parameter()), e.value(), e.allowed());
+  }
+  drape::Garment garment;
+  try {
+    garment = drape::dress_garment(drape::pattern_io::read_sewing_pattern(m.pattern), fabric, sewing);
+  } catch (const std::exception& e) {
+    throw SettingsError(key("pattern") + " '" + m.pattern + "': " + e.what());
+  }
+  spec.mesh = garment.spec.mesh;
+  spec.areal_density = garment.spec.areal_density;
+  spec.springs = garment.spec.springs;
+  spec.gravity = 0;
+  for (auto& term : garment.spec.force_terms) spec.force_terms.push_back(term);
+  spec.self_collision.joined_nodes = garment.spec.self_collision.joined_nodes;
+  if (!spec.pinned_nodes) spec.pinned_nodes = std::vector<int>{};
+#else
+  (void)spec;
+  throw SettingsError(key("pattern") + " '" + m.pattern +
+                      "': this build reads no sewing patterns (it was built without nlohmann-json: "
+                      "apt-get install nlohmann-json3-dev and rebuild)");
+#endif
+}
+
 }  // namespace
 
 void apply_mesh_source(const MeshSource& m, drape::ClothSpecd& spec, const KeyName& key) {
@@ -84,8 +140,12 @@ void apply_mesh_source(const MeshSource& m, drape::ClothSpecd& spec, const KeyNa
         fail(key("pin-box"), "a box with X0 > X1, Y0 > Y1 or Z0 > Z1 (or a non-finite corner)",
              "finite corners X0 Y0 Z0 <= X1 Y1 Z1");
   }
-  if (m.density > 0) spec.areal_density = m.density;
-  if (m.is_mesh()) spec.mesh = m.file.empty() ? generated_mesh(m, key) : read_mesh_file(m, key);
+  if (!m.pattern.empty()) {
+    apply_pattern(m, spec, key);
+  } else {
+    if (m.density > 0) spec.areal_density = m.density;
+    if (m.is_mesh()) spec.mesh = m.file.empty() ? generated_mesh(m, key) : read_mesh_file(m, key);
+  }
   if (m.pin_groups.empty() && m.pin_box.empty()) return;
 
   // Pins by group and box join the pins by id (--pins); without --pins, the boundary preset's

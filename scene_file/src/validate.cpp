@@ -41,6 +41,8 @@ void validate(const Settings& s, const FileKeys& from_file) {
   });
   checked([&] { s.realtime.validate(); });
   if (!s.extra_cloths.empty()) {
+    if (!s.mesh.pattern.empty())
+      fail("--pattern", "'" + s.mesh.pattern + "' with [[cloths]]", "a garment scene of one cloth: no [[cloths]] tables");
     (void)cloth_specs(s, s.cloth);
     if (!s.load_state.empty())
       fail("--load-state", "'" + s.load_state + "'", "a state of one cloth: not with [[cloths]]");

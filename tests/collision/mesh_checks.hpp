@@ -196,19 +196,43 @@ struct MeshIntersection {
   int tri_b;
 };
 
-/// Do triangles i and j share no vertex, and intersect?
+/// Do triangles i and j share no vertex, and intersect? With `same`, vertices a and b count as one
+/// when same[a] == same[b] (a garment's sewn vertices: sewn_vertex_classes()).
 template <class S>
-bool disjoint_triangles_intersect(const Matrix3X<S>& x, const std::array<int, 3>& ti, const std::array<int, 3>& tj) {
+bool disjoint_triangles_intersect(const Matrix3X<S>& x, const std::array<int, 3>& ti, const std::array<int, 3>& tj,
+                                  const std::vector<int>* same = nullptr) {
   for (int a : ti)
     for (int b : tj)
-      if (a == b) return false;
+      if (a == b || (same && (*same)[std::size_t(a)] == (*same)[std::size_t(b)])) return false;
   return triangles_intersect<S>(x.col(ti[0]), x.col(ti[1]), x.col(ti[2]), x.col(tj[0]), x.col(tj[1]), x.col(tj[2]));
 }
 
+/// Per vertex of `n`, the smallest vertex sewn to it through `pairs`, directly or along a chain
+/// (a panel corner where two seams meet): vertices of one class count as one vertex. Written here by
+/// plain relaxation, apart from the library's union-find.
+inline std::vector<int> sewn_vertex_classes(int n, const std::vector<std::array<int, 2>>& pairs) {
+  std::vector<int> same(static_cast<std::size_t>(n));
+  for (int v = 0; v < n; ++v) same[std::size_t(v)] = v;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const auto& [a, b] : pairs) {
+      const int low = std::min(same[std::size_t(a)], same[std::size_t(b)]);
+      for (int v : {a, b})
+        if (same[std::size_t(v)] != low) {
+          same[std::size_t(v)] = low;
+          changed = true;
+        }
+    }
+  }
+  return same;
+}
+
 /// The first pair of triangles (in the order of the triangle list) that share no vertex and
-/// intersect (triangles_intersect): every pair whose boxes overlap is tested.
+/// intersect (triangles_intersect): every pair whose boxes overlap is tested. `same`: as
+/// disjoint_triangles_intersect().
 template <class S>
-MeshIntersection first_intersection(const Matrix3X<S>& x, const std::vector<std::array<int, 3>>& triangles) {
+MeshIntersection first_intersection(const Matrix3X<S>& x, const std::vector<std::array<int, 3>>& triangles,
+                                    const std::vector<int>* same = nullptr) {
   std::vector<check_detail::Box3<S>> boxes;
   boxes.reserve(triangles.size());
   for (const auto& t : triangles) boxes.push_back(check_detail::box_of<S>(x.col(t[0]), x.col(t[1]), x.col(t[2])));
@@ -221,7 +245,7 @@ MeshIntersection first_intersection(const Matrix3X<S>& x, const std::vector<std:
       });
   std::sort(overlapping.begin(), overlapping.end());
   for (const auto& [i, j] : overlapping)
-    if (disjoint_triangles_intersect(x, triangles[std::size_t(i)], triangles[std::size_t(j)])) return {true, i, j};
+    if (disjoint_triangles_intersect(x, triangles[std::size_t(i)], triangles[std::size_t(j)], same)) return {true, i, j};
   return {false, -1, -1};
 }
 

@@ -319,7 +319,8 @@ TEMPLATE_TEST_CASE("mesh collider: key frames of a box moving and turning answer
   int near = 0;
   for (int k = 0; k < 3000; ++k) {
     const S t = S(when(rng));
-    const Vec3<S> p = box.motion().pose(t).translation + Vec3<S>(S(u(rng)), S(u(rng)), S(u(rng)));
+    const S dx = S(u(rng)), dy = S(u(rng)), dz = S(u(rng));  // in this order on every compiler
+    const Vec3<S> p = box.motion().pose(t).translation + Vec3<S>(dx, dy, dz);
     near += std::abs(box.query(p, t).distance) < S(0.02) ? 1 : 0;
     const ColliderContact<S> a = box.query(p, t), b = animated.query(p, t);
     INFO("t " << t << ", p " << p.transpose());
@@ -328,7 +329,7 @@ TEMPLATE_TEST_CASE("mesh collider: key frames of a box moving and turning answer
     // of its material point at p: they differ by w x (p - c), and by the turn over one frame interval.
     if (std::abs(a.distance) < S(0.02)) REQUIRE((a.velocity - b.velocity).norm() <= S(0.01));
   }
-  CHECK(near > 30);
+  CHECK(near > 15);  // the band within 2 cm of the surface holds about 1% of the points
   // Before the first and after the last frame the mesh holds still.
   Matrix3X<S> x;
   animated.mesh_positions(S(-1), x);

@@ -14,6 +14,10 @@
 #include "drape/core/mesh_generators.hpp"
 #include "drape/core/pin_set.hpp"
 #include "drape/scene_file/build_scene.hpp"
+#if DRAPE_TEST_HAS_PATTERN_IO
+#include "drape/garment/fabric.hpp"
+#include "drape/physics/seam_springs.hpp"
+#endif
 #include "drape/scene_file/command_line.hpp"
 #include "drape/scene_file/pin_schedule.hpp"
 
@@ -499,6 +503,47 @@ TEST_CASE("mesh keys: generated and OBJ meshes, density, pins by group and box, 
   CHECK_THAT(error_of(dir, "shape = \"disk\"\nbending = -1.0\n"), Contains("bending") && Contains(">= 0"));
   fs::remove_all(dir);
 }
+
+#if DRAPE_TEST_HAS_PATTERN_IO
+TEST_CASE("pattern keys: a garment sewn from a sewing pattern in a fabric; bad values named",
+          "[scene_file][mesh][garment]") {
+  const fs::path dir = fresh_dir("pattern");
+  using Catch::Contains;
+  const std::string shirt = std::string(DRAPE_SOURCE_DIR) + "/scenes/garments/shirt_mean.json";
+  const std::string garment = "pattern = \"" + shirt + "\"\nedge-length = 0.03\n";
+  Settings s = read_text(dir, garment + "fabric = \"denim\"\nseam-stiffness = 800.0\nseam-closing-time = 0.6\n"
+                                        "gravity = 9.81\nself-collision = true\n");
+  REQUIRE(s.cloth.mesh);
+  REQUIRE(s.cloth.areal_density);
+  CHECK(*s.cloth.areal_density == drape::fabric_preset("denim").areal_density);
+  CHECK(s.cloth.springs.structural.stiffness == drape::edge_spring_stiffness(drape::fabric_preset("denim")));
+  CHECK(s.cloth.springs.bend.stiffness == 0);
+  CHECK(s.cloth.gravity == 0);  // carried by the ramped term
+  CHECK(s.cloth.self_collision.enabled);
+  CHECK(s.cloth.self_collision.joined_nodes.size() > 50);
+  REQUIRE(s.cloth.pinned_nodes);
+  CHECK(s.cloth.pinned_nodes->empty());
+  std::vector<std::string> names;
+  for (const auto& term : prepare_scene(s).first.force_terms) names.push_back(term->name());
+  CHECK(names == std::vector<std::string>{"seams", "dihedral bending", "ramped gravity"});
+  const auto& seams = dynamic_cast<const drape::SeamSprings<double>&>(*prepare_scene(s).first.force_terms[0]);
+  CHECK(seams.stiffness() == 800.0);
+  CHECK(seams.closing_time() == 0.6);
+  CHECK(seams.pairs() == s.cloth.self_collision.joined_nodes);
+
+  // Bad values name the key and what is allowed.
+  CHECK_THAT(error_of(dir, garment + "fabric = \"tweed\"\n"), Contains("fabric") && Contains("cotton | denim | silk | jersey"));
+  CHECK_THAT(error_of(dir, garment + "seam-stiffness = 0.0\n"), Contains("seam-stiffness") && Contains("> 0"));
+  CHECK_THAT(error_of(dir, garment + "seam-closing-time = -1.0\n"), Contains("seam-closing-time") && Contains(">= 0"));
+  CHECK_THAT(error_of(dir, garment + "density = 0.2\n"), Contains("density") && Contains("the fabric sets"));
+  CHECK_THAT(error_of(dir, garment + "bending = 1e-4\n"), Contains("bending") && Contains("the fabric sets"));
+  CHECK_THAT(error_of(dir, garment + "shape = \"disk\"\n"), Contains("shape") && Contains("with a pattern"));
+  CHECK_THAT(error_of(dir, garment + "[[cloths]]\nnx = 3\n"), Contains("--pattern") && Contains("[[cloths]]"));
+  std::ofstream(dir / "bad.json") << "{\"pattern\": {\"panels\": {}}}";
+  CHECK_THAT(error_of(dir, "pattern = \"bad.json\"\n"), Contains("pattern") && Contains("bad.json"));
+  fs::remove_all(dir);
+}
+#endif
 
 TEST_CASE("[[cloths]] with mesh keys: a disk and an OBJ cloth beside the grid, errors named by table and key",
           "[scene_file][mesh][cloths]") {

@@ -200,7 +200,8 @@ TEST_CASE("float multigrid: Galerkin operators and V-cycles give the same bits w
     for (bool route : {true, false})
       // Two threads with the default settings run every level on one thread (33 x 33 is below
       // min_team_rows); with a low threshold the finest levels are shared by the team.
-      for (const auto& [threads, min_team_rows] : {std::pair{1, 2048}, std::pair{2, 2048}, std::pair{2, 64}}) {
+      for (const auto& [team, min_team_rows] : {std::pair{1, 2048}, std::pair{2, 2048}, std::pair{2, 64}}) {
+        const int threads = team;  // a lambda captures a variable, not a structured binding (C++17)
         INFO(pins_name(pins) << (route ? ", routed" : ", not routed") << ", " << threads << " thread(s), min_team_rows "
                              << min_team_rows);
         MultigridSettings settings;

@@ -995,9 +995,10 @@ namespace {
 
 /// The example scene `name` (a mesh cloth) rendered with `flags`, every frame written as OBJ: in no
 /// frame do two of the cloth's triangles that share no vertex intersect (the exact test of
-/// mesh_checks.hpp over all pairs), and no vertex lies deeper in a collider than the contact
-/// tolerance lets it.
-void check_example_frames(const char* name, const std::string& flags) {
+/// mesh_checks.hpp over all pairs; a garment's sewn vertices count as one), and no vertex lies
+/// deeper in a collider than the contact tolerance lets it. A garment's seams (its joined nodes) are
+/// closed to within `seam_gap` m in the last frame.
+void check_example_frames(const char* name, const std::string& flags, double seam_gap = 0) {
   INFO(name << " " << flags);
   const fs::path scene = scenes_dir / (std::string(name) + ".toml");
   const fs::path dir = fresh_dir(name);
@@ -1007,13 +1008,16 @@ void check_example_frames(const char* name, const std::string& flags) {
   REQUIRE(r.code == 0);
   const drape::scene_file::Settings s = parse({"--scene", scene.string()});
   const drape::Clothd cloth = drape::scene_file::make_cloth(s, s.cloth);
+  const std::vector<std::array<int, 2>>& sewn = s.cloth.self_collision.joined_nodes;
+  const std::vector<int> same = drape::test::sewn_vertex_classes(cloth.node_count(), sewn);
   int frames = 0;
   double deepest = 1e30;
+  drape::Matrix3X<double> x;
   for (; fs::exists(obj_frame(dir / "out", frames)); ++frames) {
-    const drape::Matrix3X<double> x = obj_vertices(obj_frame(dir / "out", frames));
+    x = obj_vertices(obj_frame(dir / "out", frames));
     REQUIRE(x.cols() == cloth.node_count());
     INFO("frame " << frames);
-    REQUIRE_FALSE(drape::test::first_intersection(x, cloth.triangles()).found);
+    REQUIRE_FALSE(drape::test::first_intersection(x, cloth.triangles(), &same).found);
     const double t = frames * s.time.frame_time;
     for (const drape::Colliderd& collider : cloth.colliders()) {
       if (!collider.deforms()) {
@@ -1030,6 +1034,11 @@ void check_example_frames(const char* name, const std::string& flags) {
     }
   }
   CHECK(frames >= 20);
+  CHECK(sewn.empty() == (seam_gap == 0));
+  double widest = 0;
+  for (const auto& [a, b] : sewn) widest = std::max(widest, (x.col(a) - x.col(b)).norm());
+  INFO("widest seam gap in the last frame " << widest);
+  CHECK(widest <= seam_gap);
   if (!cloth.colliders().empty()) {
     INFO("deepest " << deepest);
     CHECK(deepest >= cloth.contact_thickness() - cloth.contact_tolerance() - 1e-9);
@@ -1061,6 +1070,11 @@ TEST_CASE("scenes/shawl.toml: no intersection, nothing inside the body mesh", "[
 TEST_CASE("scenes/shawl_arms.toml: no intersection, nothing inside the body mesh while its arms move",
           "[cli][.examples][shawl_arms][mesh_collider]") {
   check_example_frames("shawl_arms", "--duration 2");  // the arms move from 0.8 to 1.8 s
+}
+
+TEST_CASE("scenes/shirt.toml: no intersection, nothing inside the body, the seams closed",
+          "[cli][.examples][shirt][garment]") {
+  check_example_frames("shirt", "", 0.005);
 }
 
 TEST_CASE("scenes/chair.toml: no intersection, nothing inside the chair's thin parts",

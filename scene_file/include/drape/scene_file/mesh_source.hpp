@@ -1,7 +1,8 @@
 #pragma once
 /// \file mesh_source.hpp
 /// Where a scene's first cloth comes from when it is not the nx x ny grid: an OBJ file (through
-/// drape::mesh_io) or a mesh the library generates (a disk, a rectangle with a hole), with its
+/// drape::mesh_io), a sewing pattern (through drape::pattern_io) or a mesh the library generates (a
+/// disk, a rectangle with a hole), with its
 /// scale, mass per area, pins by group or box and dihedral bending. Every field is a flag of the
 /// "Cloth mesh" group of drape-render and a key of a scene file (command_line.hpp).
 
@@ -31,8 +32,17 @@ struct MeshSource {
   double bending = 0;     ///< --bending: dihedral bending stiffness, N m (0: off)
   double bending_kd = 0;  ///< --bending-kd: its damping, N m s
 
+  /// --pattern: a GarmentCode JSON sewing pattern (through drape::pattern_io); in a scene file,
+  /// relative to the scene file's folder. The cloth is then the garment sewn from it
+  /// (drape/garment/garment.hpp): its panels meshed at --edge-length, in --fabric, the seams closing
+  /// in --seam-closing-time, gravity on after them. Empty: --mesh or --shape.
+  std::string pattern;
+  std::string fabric = "cotton";   ///< --fabric: a preset of drape/garment/fabric.hpp (with --pattern)
+  double seam_stiffness = 500;     ///< --seam-stiffness: N/m per sewn pair (with --pattern)
+  double seam_closing_time = 1.0;  ///< --seam-closing-time: s (with --pattern)
+
   /// True when the cloth is not the plain grid of nx, ny and spacing.
-  bool is_mesh() const { return !file.empty() || shape != "grid"; }
+  bool is_mesh() const { return !file.empty() || !pattern.empty() || shape != "grid"; }
 };
 
 }  // namespace drape::scene_file
