@@ -996,8 +996,9 @@ namespace {
 /// The example scene `name` (a mesh cloth) rendered with `flags`, every frame written as OBJ: in no
 /// frame do two of the cloth's triangles that share no vertex intersect (the exact test of
 /// mesh_checks.hpp over all pairs; a garment's sewn vertices count as one), and no vertex lies
-/// deeper in a collider than the contact tolerance lets it. A garment's seams (its joined nodes) are
-/// closed to within `seam_gap` m in the last frame.
+/// deeper in a collider than the contact tolerance lets it. A garment's seams (its joined nodes) in
+/// the last frame: nine pairs in ten closed to 2 mm, every pair within `seam_gap` m (where four
+/// panels meet under an arm, a fold of the sleeve keeps a few pairs apart: docs/garments.md).
 void check_example_frames(const char* name, const std::string& flags, double seam_gap = 0) {
   INFO(name << " " << flags);
   const fs::path scene = scenes_dir / (std::string(name) + ".toml");
@@ -1036,9 +1037,15 @@ void check_example_frames(const char* name, const std::string& flags, double sea
   CHECK(frames >= 20);
   CHECK(sewn.empty() == (seam_gap == 0));
   double widest = 0;
-  for (const auto& [a, b] : sewn) widest = std::max(widest, (x.col(a) - x.col(b)).norm());
-  INFO("widest seam gap in the last frame " << widest);
+  std::size_t closed = 0;
+  for (const auto& [a, b] : sewn) {
+    const double gap = (x.col(a) - x.col(b)).norm();
+    widest = std::max(widest, gap);
+    closed += gap <= 0.002 ? 1 : 0;
+  }
+  INFO("widest seam gap in the last frame " << widest << ", " << closed << " of " << sewn.size() << " within 2 mm");
   CHECK(widest <= seam_gap);
+  CHECK(closed >= 0.9 * double(sewn.size()));
   if (!cloth.colliders().empty()) {
     INFO("deepest " << deepest);
     CHECK(deepest >= cloth.contact_thickness() - cloth.contact_tolerance() - 1e-9);
@@ -1074,7 +1081,7 @@ TEST_CASE("scenes/shawl_arms.toml: no intersection, nothing inside the body mesh
 
 TEST_CASE("scenes/shirt.toml: no intersection, nothing inside the body, the seams closed",
           "[cli][.examples][shirt][garment]") {
-  check_example_frames("shirt", "", 0.005);
+  check_example_frames("shirt", "", 0.02);
 }
 
 TEST_CASE("scenes/chair.toml: no intersection, nothing inside the chair's thin parts",
