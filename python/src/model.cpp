@@ -529,7 +529,9 @@ void bind_spec_and_cloth(nb::module_& m) {
           [](const Cloth& c, const SharedState& s) { return array3(drape::pin_reaction(c, fitting_state(c, s))); },
           "state"_a, "N: the force the cloth's own pins exert on it (balances the weight at rest).");
 
-  nb::exception<drape::PatternError>(m, "PatternError", PyExc_ValueError);
+  nb::exception<drape::PatternError>(m, "PatternError", PyExc_ValueError).attr("__doc__") =
+      "A sewing pattern drape cannot use: the message names the file and the JSON path "
+      "(pattern.stitches[7][1].panel) and what is allowed there.";
   m.def(
       "load_pattern",
       [](const std::string& path, double edge_length, const std::string& fabric, double seam_stiffness,
