@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
-"""Key frames of a body mesh with its arms lowered, for an animated mesh collider.
+"""Key frames of a body mesh with its arms lowered or raised, for an animated mesh collider.
 
 Reads an OBJ body (the A-pose SMPL body of scenes/bodies/, y up, facing +z), turns each arm about
-its shoulder in the body's frontal plane (about z) by `angle` degrees towards the body, and writes
-the result as an OBJ with the same vertices in the same order and the same faces. Vertices blend
+its shoulder in the body's frontal plane (about z) by `angle` degrees towards the body (a negative
+angle raises the arms), and writes the result as an OBJ with the same vertices in the same order and the same faces. Vertices blend
 from the torso into the arm over a band around the shoulder (a linear blend of the turn by a smooth
 weight, as skinning does), so the surface stays connected and free of folds.
 
     scripts/make_body_frames.py scenes/bodies/f_smpl_average_A40.obj 20 scenes/bodies/f_smpl_arms_down20.obj
+    scripts/make_body_frames.py scenes/bodies/f_smpl_average_A40.obj -20 scenes/bodies/f_smpl_arms_up20.obj
 """
 import math
 import sys

@@ -1084,6 +1084,16 @@ TEST_CASE("scenes/shirt.toml: no intersection, nothing inside the body, the seam
   check_example_frames("shirt", "", 0.02);
 }
 
+TEST_CASE("scenes/shirt_arms.toml: no intersection, nothing inside the body while its arms move, the seams closed",
+          "[cli][.examples][shirt_arms][garment]") {
+  check_example_frames("shirt_arms", "", 0.02);  // the arms move from 1.5 to 2.5 s
+}
+
+TEST_CASE("scenes/skirt.toml: no intersection, nothing inside the body, the seams closed",
+          "[cli][.examples][skirt][garment]") {
+  check_example_frames("skirt", "", 0.001);
+}
+
 TEST_CASE("scenes/chair.toml: no intersection, nothing inside the chair's thin parts",
           "[cli][.examples][chair][mesh_collider]") {
   check_example_frames("chair", "--duration 1.5");  // over the back rest and onto the seat by then
