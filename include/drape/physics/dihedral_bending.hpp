@@ -278,7 +278,8 @@ DihedralBending<Scalar>::DihedralBending(const ClothMesh<Scalar>& mesh, Scalar s
   m_constants.reserve(m_hinges.size());
   // validate() has rejected triangles without area in the rest shape.
   for (const Hinge& h : m_hinges)
-    m_constants.push_back(rest_constants(rest.col(h.a), rest.col(h.b), rest.col(h.c), rest.col(h.d), stiffness, damping));
+    m_constants.push_back(
+        rest_constants(rest.col(h.a), rest.col(h.b), rest.col(h.c), rest.col(h.d), stiffness, damping));
 }
 
 template <class Scalar>
@@ -299,7 +300,8 @@ DihedralBending<Scalar>::DihedralBending(int node_count, std::vector<Hinge> hing
         detail::fail_argument(where, "vertex id " + detail::to_text(v[i]),
                               "vertex ids in [0, " + detail::to_text(node_count - 1) + "]");
       for (std::size_t j = 0; j < i; ++j)
-        if (v[j] == v[i]) detail::fail_argument(where, "vertex " + detail::to_text(v[i]) + " twice", "four distinct vertices");
+        if (v[j] == v[i])
+          detail::fail_argument(where, "vertex " + detail::to_text(v[i]) + " twice", "four distinct vertices");
     }
     const HingeConstants& c = m_constants[k];
     const std::string name = "hinge constants[" + detail::to_text(k) + "]";
