@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <random>
 #include <set>
@@ -24,11 +25,12 @@
 #include "drape/physics/jacobian_assembler.hpp"
 #include "drape/platform/team.hpp"
 #include "model/mesh_helpers.hpp"
+#include "physics/dihedral_checks.hpp"
 #include "support/dense.hpp"
 #include "test_common.hpp"
 
 using namespace drape;
-using Dense = Eigen::MatrixXd;
+using namespace drape::test::dihedral;
 
 namespace {
 
@@ -67,82 +69,6 @@ ClothMesh<S> folded_patch(unsigned seed, double fold, double bulge = 0, bool pat
     }
   if (pattern) mesh.rest_uv = flat;
   return mesh;
-}
-
-/// `x` moved by up to `amplitude` in every coordinate.
-template <class S>
-Matrix3X<S> jittered(const Matrix3X<S>& x, double amplitude, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-amplitude, amplitude);
-  Matrix3X<S> out = x;
-  for (Index k = 0; k < out.size(); ++k) out.data()[k] += S(u(rng));
-  return out;
-}
-
-template <class S>
-Matrix3X<S> force_of(const DihedralBending<S>& term, const Matrix3X<S>& x, const Matrix3X<S>& v) {
-  Matrix3X<S> f = Matrix3X<S>::Zero(3, x.cols());
-  term.add_force(x, v, S(0), f);
-  return f;
-}
-
-/// Dense derivative blocks, checked as the implicit assembly needs them: a pair a != b only if
-/// coupled_nodes() lists it, and no two threads in the same row a at once.
-template <class S>
-class Recorder final : public ForceDerivatives<S> {
- public:
-  using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
-  Recorder(const ForceTerm<S>& term, int n, bool symmetric)
-      : dfdx(Matrix::Zero(3 * n, 3 * n)), dfdv(Matrix::Zero(3 * n, 3 * n)), m_symmetric(symmetric), m_busy(n) {
-    for (const std::array<int, 2>& pair : term.coupled_nodes()) {
-      m_pairs.insert({pair[0], pair[1]});
-      m_pairs.insert({pair[1], pair[0]});
-    }
-    for (std::atomic<int>& b : m_busy) b = 0;
-  }
-  bool symmetric() const override { return m_symmetric; }
-  void add(int a, int b, const Mat3<S>& x_block, const Mat3<S>& v_block) override {
-    if (a != b && m_pairs.count({a, b}) == 0) ++undeclared;
-    if (m_busy[static_cast<std::size_t>(a)].fetch_add(1) != 0) ++overlapping;
-    dfdx.template block<3, 3>(3 * a, 3 * b) += x_block;
-    dfdv.template block<3, 3>(3 * a, 3 * b) += v_block;
-    m_busy[static_cast<std::size_t>(a)].fetch_sub(1);
-  }
-  Matrix dfdx, dfdv;
-  std::atomic<int> undeclared{0}, overlapping{0};
-
- private:
-  bool m_symmetric;
-  std::set<std::pair<int, int>> m_pairs;
-  std::vector<std::atomic<int>> m_busy;
-};
-
-/// Central differences of the force with respect to positions (`wrt_x`) or velocities, in S.
-template <class S>
-Dense fd_jacobian(const DihedralBending<S>& term, const Matrix3X<S>& x, const Matrix3X<S>& v, bool wrt_x, S h) {
-  Dense j(x.size(), x.size());
-  for (Index k = 0; k < x.size(); ++k) {
-    Matrix3X<S> xp = x, xm = x, vp = v, vm = v;
-    (wrt_x ? xp : vp).data()[k] += h;
-    (wrt_x ? xm : vm).data()[k] -= h;
-    const Matrix3X<S> df = force_of(term, xp, vp) - force_of(term, xm, vm);
-    for (Index q = 0; q < x.size(); ++q) j(q, k) = double(df.data()[q]) / (2 * double(h));
-  }
-  return j;
-}
-
-/// Largest entry of |a - b| over the largest of |b|.
-double relative_error(const Dense& a, const Dense& b) {
-  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
-}
-
-template <class S>
-Dense dense(const Matrix3X<S>& m) {
-  return m.template cast<double>();
-}
-template <class M>
-Dense dense_matrix(const M& m) {
-  return m.template cast<double>();
 }
 
 /// -sum_e k_e g g^T: the symmetric variant's position blocks, from the term's own angle gradient.
@@ -192,6 +118,112 @@ TEST_CASE("dihedral bending: parameters and mesh are checked", "[bending]") {
   CHECK_FALSE(zero.has_derivatives());
   const Matrix3X<double> x = jittered(mesh.positions, 0.03, 2);
   CHECK(force_of(zero, x, x).cwiseAbs().maxCoeff() == 0);
+}
+
+TEST_CASE("dihedral bending from explicit hinges: sizes, ids and constants are checked", "[bending][explicit]") {
+  using Constants = DihedralBending<double>::HingeConstants;
+  const std::vector<Hinge> hinges{{0, 1, 2, 3}, {1, 2, 0, 4}};
+  const std::vector<Constants> constants{{0.1, 0.01, 0.0}, {0.2, 0.0, -0.5}};
+  const DihedralBending<double> term(5, hinges, constants);
+  CHECK(term.hinges().size() == 2);
+  CHECK(term.has_derivatives());
+  CHECK_FALSE(DihedralBending<double>(5, hinges, {{0, 0, 0}, {0, 0, 0}}).has_derivatives());
+  CHECK(DihedralBending<double>(5, {}, {}).hinges().empty());
+  CHECK_THROWS_WITH(DihedralBending<double>(0, {}, {}), Catch::Contains("'node count'"));
+  CHECK_THROWS_WITH(DihedralBending<double>(5, hinges, {constants[0]}), Catch::Contains("'hinge constants'"));
+  CHECK_THROWS_WITH(DihedralBending<double>(4, hinges, constants),
+                    Catch::Contains("'hinges[1]'") && Catch::Contains("vertex id 4"));
+  CHECK_THROWS_WITH(DihedralBending<double>(5, {{0, 1, 2, 3}, {1, 2, 1, 4}}, constants),
+                    Catch::Contains("'hinges[1]'") && Catch::Contains("twice"));
+  const auto with = [&](std::size_t k, Constants c) {
+    std::vector<Constants> changed = constants;
+    changed[k] = c;
+    return changed;
+  };
+  CHECK_THROWS_WITH(DihedralBending<double>(5, hinges, with(1, {-0.1, 0, 0})),
+                    Catch::Contains("'hinge constants[1].stiffness'"));
+  CHECK_THROWS_WITH(DihedralBending<double>(5, hinges, with(0, {0.1, std::nan(""), 0})),
+                    Catch::Contains("'hinge constants[0].damping'"));
+  CHECK_THROWS_WITH(DihedralBending<double>(5, hinges, with(0, {0.1, 0, 3.5})),
+                    Catch::Contains("'hinge constants[0].rest_angle'"));
+  CHECK_THROWS_WITH(DihedralBending<double>(5, hinges, with(0, {0.1, 0, HUGE_VAL})),
+                    Catch::Contains("'hinge constants[0].rest_angle'"));
+  // A rest shape without a triangle has no constants.
+  const Vec3<double> o(0, 0, 0), x(1, 0, 0), y(0, 1, 0);
+  CHECK_THROWS_WITH(DihedralBending<double>::rest_constants(o, x, Vec3<double>(2, 0, 0), -y, 1.0, 0.0),
+                    Catch::Contains("'hinge rest shape'"));
+  CHECK_THROWS_WITH(DihedralBending<double>::rest_constants(o, o, y, -y, 1.0, 0.0),
+                    Catch::Contains("'hinge rest shape'"));
+  // A unit square split along its diagonal: k 3 |e|^2 / (A1 + A2) = 3 * 2 / 1, flat.
+  const DihedralBending<double>::HingeConstants square =
+      DihedralBending<double>::rest_constants(o, Vec3<double>(1, 1, 0), y, x, 0.5, 0.25);
+  CHECK(square.stiffness == Approx(3.0).epsilon(1e-15));
+  CHECK(square.damping == Approx(1.5).epsilon(1e-15));
+  CHECK(square.rest_angle == 0);
+}
+
+TEMPLATE_TEST_CASE("dihedral bending from explicit hinges: the mesh's hinges and rest constants give its bits",
+                   "[bending][explicit]", float, double) {
+  using S = TestType;
+  using Constants = typename DihedralBending<S>::HingeConstants;
+  for (const bool pattern : {false, true}) {
+    INFO((pattern ? "flat pattern" : "curved rest shape"));
+    const ClothMesh<S> mesh = folded_patch<S>(11, 0.9, 1.2, pattern, 14, 12);  // several chunks and colours
+    const DihedralBending<S> from_mesh(mesh, S(0.02), S(0.003));
+    const Matrix3X<S> rest = mesh.rest_shape();
+    std::vector<Hinge> hinges = mesh.hinges();
+    std::vector<Constants> constants;
+    for (const Hinge& h : hinges)
+      constants.push_back(DihedralBending<S>::rest_constants(rest.col(h.a), rest.col(h.b), rest.col(h.c), rest.col(h.d),
+                                                             S(0.02), S(0.003)));
+    const DihedralBending<S> explicit_term(mesh.vertex_count(), hinges, constants);
+    REQUIRE(from_mesh.hinges().size() > 2 * DihedralBending<S>::hinges_per_chunk);
+    REQUIRE(from_mesh.colour_begin().size() > 2);
+    // The same order, chunks and colours, and the same constants per hinge.
+    REQUIRE(explicit_term.hinges().size() == from_mesh.hinges().size());
+    for (std::size_t k = 0; k < hinges.size(); ++k) {
+      const Hinge &p = explicit_term.hinges()[k], &q = from_mesh.hinges()[k];
+      REQUIRE(std::array<int, 4>{p.a, p.b, p.c, p.d} == std::array<int, 4>{q.a, q.b, q.c, q.d});
+      CHECK(explicit_term.hinge_stiffness(int(k)) == from_mesh.hinge_stiffness(int(k)));
+      CHECK(explicit_term.hinge_damping(int(k)) == from_mesh.hinge_damping(int(k)));
+      CHECK(explicit_term.rest_angle(int(k)) == from_mesh.rest_angle(int(k)));
+    }
+    CHECK(explicit_term.chunk_begin() == from_mesh.chunk_begin());
+    CHECK(explicit_term.colour_begin() == from_mesh.colour_begin());
+    const Matrix3X<S> x = jittered(mesh.positions, 0.02, 3);
+    const Matrix3X<S> v = jittered<S>(Matrix3X<S>::Zero(3, x.cols()), 1.0, 4);
+    CHECK(force_of(explicit_term, x, v) == force_of(from_mesh, x, v));
+    Recorder<S> a(from_mesh, mesh.vertex_count(), false), b(explicit_term, mesh.vertex_count(), false);
+    from_mesh.add_derivatives(x, v, S(0), a);
+    explicit_term.add_derivatives(x, v, S(0), b);
+    CHECK(a.dfdx == b.dfdx);
+    CHECK(a.dfdv == b.dfdv);
+    // Hinges given in another order: their constants follow them.
+    std::vector<std::size_t> order(hinges.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::shuffle(order.begin(), order.end(), std::mt19937(5));
+    std::vector<Hinge> shuffled_hinges;
+    std::vector<Constants> shuffled_constants;
+    for (std::size_t k : order) {
+      shuffled_hinges.push_back(hinges[k]);
+      shuffled_constants.push_back(constants[k]);
+    }
+    const DihedralBending<S> shuffled(mesh.vertex_count(), shuffled_hinges, shuffled_constants);
+    const auto key = [](const Hinge& h) { return std::array<int, 4>{h.a, h.b, h.c, h.d}; };
+    std::map<std::array<int, 4>, std::array<S, 3>> expected;
+    for (std::size_t k = 0; k < hinges.size(); ++k)
+      expected[key(hinges[k])] = {constants[k].stiffness, constants[k].damping, constants[k].rest_angle};
+    int mismatched = 0;
+    for (std::size_t k = 0; k < shuffled.hinges().size(); ++k) {
+      const int q = int(k);
+      const std::array<S, 3> got{shuffled.hinge_stiffness(q), shuffled.hinge_damping(q), shuffled.rest_angle(q)};
+      mismatched += expected.at(key(shuffled.hinges()[k])) != got;
+    }
+    CHECK(mismatched == 0);
+    const Dense f = dense(force_of(from_mesh, x, v));
+    const double round_off = std::is_same<S, float>::value ? 1e-5 : 1e-13;
+    CHECK((dense(force_of(shuffled, x, v)) - f).cwiseAbs().maxCoeff() <= round_off * f.cwiseAbs().maxCoeff());
+  }
 }
 
 TEMPLATE_TEST_CASE("dihedral angle of a hinge folded by a known angle, both signs", "[bending][angle]", float, double) {

@@ -2,9 +2,10 @@
 /// \file garment.hpp
 /// A garment ready to step: its sewing pattern meshed and placed (garment_mesh.hpp), a fabric's
 /// material (fabric.hpp) on its edges and hinges, the seams as springs that close over a set time
-/// (physics/seam_springs.hpp), gravity switched on once they have closed (physics/ramped_gravity.hpp),
-/// and self-collision with the sewn vertices joined (contact/self_collision_settings.hpp). The result
-/// is a ClothSpec: add the body as a collider and hand it to any integrator.
+/// (physics/seam_springs.hpp) and as hinges that bend like the fabric once closed (seam_hinges.hpp),
+/// gravity switched on once they have closed (physics/ramped_gravity.hpp), and self-collision with
+/// the sewn vertices joined (contact/self_collision_settings.hpp). The result is a ClothSpec: add the
+/// body as a collider and hand it to any integrator.
 ///
 /// Why gravity waits: the panels start where the pattern places them, around the body and not on it;
 /// under gravity from the start they would fall the closing time's free-fall distance (1.2 m in
@@ -12,11 +13,13 @@
 
 #include <array>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "drape/core/validation.hpp"
 #include "drape/garment/fabric.hpp"
 #include "drape/garment/garment_mesh.hpp"
+#include "drape/garment/seam_hinges.hpp"
 #include "drape/model/cloth.hpp"
 #include "drape/physics/dihedral_bending.hpp"
 #include "drape/physics/ramped_gravity.hpp"
@@ -50,10 +53,14 @@ struct Garment {
   GarmentMesh pieces;  ///< the panels' mesh, the seam pairs and each pair's stitch
   /// The cloth: the garment's mesh, pinned nowhere, mass from the fabric's areal density, the
   /// fabric's edge springs (no bend or shear springs: the dihedral term bends it), the force terms
-  /// `seams`, dihedral bending and ramped gravity (ClothSpec::gravity is 0), self-collision on with the
-  /// seam pairs joined. Colliders and the contact thickness are the caller's.
+  /// `seams`, the mesh's dihedral bending, `seam_bending` and ramped gravity (ClothSpec::gravity is
+  /// 0), self-collision on with the seam pairs joined. Colliders and the contact thickness are the
+  /// caller's.
   ClothSpec<double> spec;
   std::shared_ptr<const SeamSprings<double>> seams;  ///< also in spec.force_terms
+  /// The hinges across the seams (seam_hinges.hpp) in the fabric's bending, also in spec.force_terms:
+  /// a closed seam bends like the fabric across it instead of turning freely.
+  std::shared_ptr<const DihedralBending<double>> seam_bending;
 };
 
 /// The garment of `pattern` in `fabric`, sewn as `sewing` says.
@@ -72,8 +79,13 @@ inline Garment dress_garment(const SewingPattern& pattern, const Fabric& fabric,
   spec.springs = {{edge_spring_stiffness(fabric), fabric.stretch_damping}, {0.0, 0.0}, {0.0, 0.0}};
   g.seams = std::make_shared<SeamSprings<double>>(g.pieces.seam_pairs, mesh.positions, sewing.seam_stiffness,
                                                   sewing.seam_damping, sewing.seam_closing_time);
+  SeamHinges across = seam_hinges(g.pieces, hinge_stiffness(fabric), fabric.bending_damping);
+  g.seam_bending = std::make_shared<DihedralBending<double>>(mesh.vertex_count(), std::move(across.hinges),
+                                                             std::move(across.constants));
   const VectorX<double> masses = mesh.vertex_areas() * fabric.areal_density;
-  spec.force_terms = {g.seams, std::make_shared<DihedralBending<double>>(mesh, hinge_stiffness(fabric), fabric.bending_damping),
+  spec.force_terms = {g.seams,
+                      std::make_shared<DihedralBending<double>>(mesh, hinge_stiffness(fabric), fabric.bending_damping),
+                      g.seam_bending,
                       std::make_shared<RampedGravity<double>>(masses, sewing.gravity, sewing.seam_closing_time,
                                                               sewing.gravity_ramp)};
   spec.self_collision.enabled = true;

@@ -17,6 +17,10 @@
 /// length, rest triangle areas; k in N m, c in N m s) make the energy of a bent shape independent
 /// of the mesh's resolution.
 ///
+/// The term is built from a mesh (its interior edges) or from explicit hinges with their own
+/// constants, e.g. hinges across a garment's seams between vertices the mesh does not join
+/// (garment/seam_hinges.hpp); rest_constants() gives both their k_e, c_e and rest angle.
+///
 /// Derivatives: the Exact Jacobian gets the exact \f$ \partial f / \partial x \f$ (the Hessian of E,
 /// \f$ -k_e (\nabla\theta \nabla\theta^T + (\theta - \theta_0) \nabla^2\theta) \f$, and the damping
 /// force's position derivative) and \f$ \partial f / \partial v = -c_e \nabla\theta \nabla\theta^T \f$;
@@ -33,6 +37,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -51,14 +56,34 @@ class DihedralBending final : public ForceTerm<Scalar> {
   /// (a, b, c, d) order (1/m^2).
   using AngleHessian = std::array<std::array<Mat3<Scalar>, 4>, 4>;
 
-  /// `stiffness` k (N m) and `damping` c (N m s); each hinge's k_e and c_e are these times
-  /// 3 |e|^2 / (A1 + A2). On near-equilateral meshes the bending rigidity is about 3 k (drape's
-  /// bending.md, "Stiffness per hinge").
+  /// One hinge's constants: stiffness k_e (N m), damping c_e (N m s) and rest angle (rad).
+  struct HingeConstants {
+    Scalar stiffness, damping, rest_angle;
+  };
+
+  /// Every interior edge of `mesh` a hinge, with `stiffness` k (N m) and `damping` c (N m s); each
+  /// hinge's k_e and c_e are these times 3 |e|^2 / (A1 + A2) (rest_constants()). On
+  /// near-equilateral meshes the bending rigidity is about 3 k (drape's bending.md, "Stiffness per
+  /// hinge").
   /// \throws InvalidParameter naming `bending stiffness` or `bending damping` unless finite and
   /// >= 0, or as ClothMesh::validate() (naming `mesh`).
   DihedralBending(const ClothMesh<Scalar>& mesh, Scalar stiffness, Scalar damping = Scalar(0));
+  /// The given hinges of a cloth of `node_count` nodes, hinge k with `constants[k]`.
+  /// \throws InvalidParameter naming `node count` (>= 1), `hinge constants` (one per hinge),
+  /// `hinges[k]` (four distinct ids in [0, node_count)), `hinge constants[k].stiffness` or
+  /// `.damping` (finite, >= 0) or `.rest_angle` (finite, in [-pi, pi]).
+  DihedralBending(int node_count, std::vector<Hinge> hinges, std::vector<HingeConstants> constants);
+
+  /// The constants of a hinge whose rest shape is (xa, xb, xc, xd) (edge (a, b), c opposite it in
+  /// triangle (a, b, c), d in (b, a, d)), for the cloth's `stiffness` k and `damping` c: k and c
+  /// times 3 |e|^2 / (A1 + A2) (rest edge length, rest triangle areas) and the rest shape's angle.
+  /// \throws InvalidParameter naming `hinge rest shape` when a triangle has no area or the edge no
+  /// length.
+  static HingeConstants rest_constants(const Vec3<Scalar>& xa, const Vec3<Scalar>& xb, const Vec3<Scalar>& xc,
+                                       const Vec3<Scalar>& xd, Scalar stiffness, Scalar damping);
 
   std::string name() const override { return "dihedral bending"; }
+  /// The mesh constructor's k and c; 0 for a term of explicit hinges, whose constants are per hinge.
   Scalar stiffness() const { return m_stiffness; }
   Scalar damping() const { return m_damping; }
   int node_count() const { return m_node_count; }
@@ -93,7 +118,7 @@ class DihedralBending final : public ForceTerm<Scalar> {
   }
   /// Every pair of the four vertices of each hinge, each pair once (smaller id first), sorted.
   std::vector<std::array<int, 2>> coupled_nodes() const override;
-  bool has_derivatives() const override { return m_stiffness > 0 || m_damping > 0; }
+  bool has_derivatives() const override { return m_active; }
   /// Chunks of hinges in colours that share no vertex: a team takes a colour at a time.
   bool shares_work() const override { return true; }
   void add_derivatives(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar,
@@ -107,13 +132,9 @@ class DihedralBending final : public ForceTerm<Scalar> {
   }
 
  private:
-  struct HingeConstants {
-    Scalar stiffness, damping, rest_angle;
-  };
-
   /// Sorts the hinges by smallest vertex id, cuts them into chunks and sorts the chunks into
   /// colours, greedily in that order: each takes the first colour that no chunk sharing a vertex
-  /// with it has taken.
+  /// with it has taken. Constants already given move with their hinges.
   void arrange_hinges();
   /// `body(k)` for every hinge k, shared by the calling team a colour at a time, a chunk per thread.
   template <class Body>
@@ -135,7 +156,9 @@ class DihedralBending final : public ForceTerm<Scalar> {
     return d;
   }
 
-  Scalar m_stiffness, m_damping;
+  Scalar m_stiffness = 0, m_damping = 0;
+  bool m_active = false;  // some hinge has stiffness or damping
+  bool m_damped = false;  // some hinge has damping
   int m_node_count = 0;
   std::vector<Hinge> m_hinges;  // by colour, then chunk
   std::vector<HingeConstants> m_constants;
@@ -246,19 +269,63 @@ DihedralBending<Scalar>::DihedralBending(const ClothMesh<Scalar>& mesh, Scalar s
   detail::require_nonnegative_finite("bending stiffness", stiffness);
   detail::require_nonnegative_finite("bending damping", damping);
   mesh.validate("mesh");
+  m_active = stiffness > 0 || damping > 0;
+  m_damped = damping > 0;
   m_node_count = mesh.vertex_count();
   m_hinges = mesh.hinges();
   arrange_hinges();
   const Matrix3X<Scalar> rest = mesh.rest_shape();
   m_constants.reserve(m_hinges.size());
-  for (const Hinge& h : m_hinges) {
-    detail::HingeGeometry<Scalar> geometry{};
-    // validate() has rejected triangles without area in the rest shape.
-    geometry.init(rest.col(h.a), rest.col(h.b), rest.col(h.c), rest.col(h.d));
-    // 3 |e|^2 / (A1 + A2) with A_i = |N_i| / 2.
-    const Scalar scale = 6 * geometry.length_sq / (std::sqrt(geometry.normal_sq[0]) + std::sqrt(geometry.normal_sq[1]));
-    m_constants.push_back({stiffness * scale, damping * scale, geometry.angle});
+  // validate() has rejected triangles without area in the rest shape.
+  for (const Hinge& h : m_hinges)
+    m_constants.push_back(
+        rest_constants(rest.col(h.a), rest.col(h.b), rest.col(h.c), rest.col(h.d), stiffness, damping));
+}
+
+template <class Scalar>
+DihedralBending<Scalar>::DihedralBending(int node_count, std::vector<Hinge> hinges,
+                                         std::vector<HingeConstants> constants)
+    : m_node_count(node_count), m_hinges(std::move(hinges)), m_constants(std::move(constants)) {
+  detail::require_at_least("node count", node_count, 1);
+  if (m_constants.size() != m_hinges.size())
+    detail::fail_argument("hinge constants", detail::to_text(m_constants.size()) + " entries",
+                          "one per hinge (" + detail::to_text(m_hinges.size()) + ")");
+  const Scalar pi = Scalar(3.14159265358979323846);
+  for (std::size_t k = 0; k < m_hinges.size(); ++k) {
+    const Hinge& h = m_hinges[k];
+    const std::array<int, 4> v{h.a, h.b, h.c, h.d};
+    const std::string where = "hinges[" + detail::to_text(k) + "]";
+    for (std::size_t i = 0; i < 4; ++i) {
+      if (v[i] < 0 || v[i] >= node_count)
+        detail::fail_argument(where, "vertex id " + detail::to_text(v[i]),
+                              "vertex ids in [0, " + detail::to_text(node_count - 1) + "]");
+      for (std::size_t j = 0; j < i; ++j)
+        if (v[j] == v[i])
+          detail::fail_argument(where, "vertex " + detail::to_text(v[i]) + " twice", "four distinct vertices");
+    }
+    const HingeConstants& c = m_constants[k];
+    const std::string name = "hinge constants[" + detail::to_text(k) + "]";
+    detail::require_nonnegative_finite((name + ".stiffness").c_str(), c.stiffness);
+    detail::require_nonnegative_finite((name + ".damping").c_str(), c.damping);
+    if (!(std::isfinite(c.rest_angle) && std::abs(c.rest_angle) <= pi))
+      detail::fail_argument(name + ".rest_angle", detail::to_text(c.rest_angle), "finite, in [-pi, pi]");
+    m_active = m_active || c.stiffness > 0 || c.damping > 0;
+    m_damped = m_damped || c.damping > 0;
   }
+  arrange_hinges();
+}
+
+template <class Scalar>
+typename DihedralBending<Scalar>::HingeConstants DihedralBending<Scalar>::rest_constants(
+    const Vec3<Scalar>& xa, const Vec3<Scalar>& xb, const Vec3<Scalar>& xc, const Vec3<Scalar>& xd, Scalar stiffness,
+    Scalar damping) {
+  detail::HingeGeometry<Scalar> geometry{};
+  if (!geometry.init(xa, xb, xc, xd))
+    detail::fail_argument("hinge rest shape", "a triangle without area or an edge without length",
+                          "two triangles with area on an edge with length");
+  // 3 |e|^2 / (A1 + A2) with A_i = |N_i| / 2.
+  const Scalar scale = 6 * geometry.length_sq / (std::sqrt(geometry.normal_sq[0]) + std::sqrt(geometry.normal_sq[1]));
+  return {stiffness * scale, damping * scale, geometry.angle};
 }
 
 template <class Scalar>
@@ -268,9 +335,19 @@ void DihedralBending<Scalar>::arrange_hinges() {
     const std::array<int, 4> v = corners(h);
     return *std::min_element(v.begin(), v.end());
   };
-  std::stable_sort(m_hinges.begin(), m_hinges.end(),
-                   [&](const Hinge& p, const Hinge& q) { return smallest(p) < smallest(q); });
+  // Where each hinge came from, so that given constants follow it.
   const int hinge_count = static_cast<int>(m_hinges.size());
+  std::vector<int> origin(m_hinges.size());
+  for (int k = 0; k < hinge_count; ++k) origin[static_cast<std::size_t>(k)] = k;
+  std::stable_sort(origin.begin(), origin.end(), [&](int p, int q) {
+    return smallest(m_hinges[static_cast<std::size_t>(p)]) < smallest(m_hinges[static_cast<std::size_t>(q)]);
+  });
+  {
+    std::vector<Hinge> by_smallest;
+    by_smallest.reserve(m_hinges.size());
+    for (int k : origin) by_smallest.push_back(m_hinges[static_cast<std::size_t>(k)]);
+    m_hinges = std::move(by_smallest);
+  }
   const int chunks = (hinge_count + hinges_per_chunk - 1) / hinges_per_chunk;
   const auto chunk_of = [&](int k) { return k / hinges_per_chunk; };
   // The chunks of each vertex, each once, ascending.
@@ -315,13 +392,19 @@ void DihedralBending<Scalar>::arrange_hinges() {
     order[static_cast<std::size_t>(slot[static_cast<std::size_t>(colour[static_cast<std::size_t>(q)])]++)] = q;
   std::vector<Hinge> sorted;
   sorted.reserve(m_hinges.size());
+  std::vector<HingeConstants> constants;
+  constants.reserve(m_constants.size());
   m_chunk_begin.assign(1, 0);
   for (int q : order) {
-    for (int k = q * hinges_per_chunk; k < std::min(hinge_count, (q + 1) * hinges_per_chunk); ++k)
+    for (int k = q * hinges_per_chunk; k < std::min(hinge_count, (q + 1) * hinges_per_chunk); ++k) {
       sorted.push_back(m_hinges[static_cast<std::size_t>(k)]);
+      if (!m_constants.empty())
+        constants.push_back(m_constants[static_cast<std::size_t>(origin[static_cast<std::size_t>(k)])]);
+    }
     m_chunk_begin.push_back(static_cast<int>(sorted.size()));
   }
   m_hinges = std::move(sorted);
+  m_constants = std::move(constants);
 }
 
 template <class Scalar>
@@ -373,9 +456,9 @@ std::vector<std::array<int, 2>> DihedralBending<Scalar>::coupled_nodes() const {
 template <class Scalar>
 void DihedralBending<Scalar>::pass(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Ref3X<Scalar>* f,
                                    ForceDerivatives<Scalar>* out) const {
-  if (m_stiffness == 0 && m_damping == 0) return;
+  if (!m_active) return;
   const bool exact = out && !out->symmetric();
-  const bool damped = m_damping > 0;
+  const bool damped = m_damped;
   for_each_hinge([&](int k) {
     const Hinge& hinge = m_hinges[static_cast<std::size_t>(k)];
     const HingeConstants& constants = m_constants[static_cast<std::size_t>(k)];
