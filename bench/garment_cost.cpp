@@ -8,7 +8,8 @@
 /// meshed and sewn, the body's OBJ read), prepare_scene() and a drape::ClothScene of the scene's
 /// cloth (the body's tree, the self-collision hierarchy, CHOLMOD's analysis). Then every step from
 /// placement to the scene's duration, each timed: the run's wall time is their sum, the step time
-/// their median. Also the kinetic energy at the end and whether every step returned ok.
+/// their median. Also the steps in which self-collision needed its fail-safe and those it left
+/// with a pair crossing, the kinetic energy at the end and whether every step returned ok.
 ///
 /// **The split of a step**, from the run's state at t = F s (default 1.25: the seams closed at
 /// 1 s, gravity on since 1.2 s), over S steps. ClothScene steps one cloth with self-collision
@@ -38,7 +39,9 @@
 ///   (the update x += dt v, copies, and the replays' differences from the real phases).
 /// Each column is its time summed over the S steps and divided by S (the mean per step), so the
 /// parts add up to the step and each share is of the time spent; the counts (solves, nodes in
-/// contact with the body, self-collision proximity pairs) are medians over the steps. The
+/// contact with the body, self-collision proximity pairs) are medians over the steps, with the
+/// number of steps in which self-collision needed its fail-safe (impact zones) and of those in
+/// which the fail-safe gave up with a pair still crossing (SelfCollisionReport::unresolved). The
 /// assembly uses the T threads; CHOLMOD (OpenBLAS pinned to one thread), the contacts and
 /// self-collision are serial.
 ///
@@ -96,10 +99,12 @@ struct Result {
   double edge_cm = 0;
   int vertices = 0, triangles = 0, seam_pairs = 0, steps = 0;
   double setup = 0, run = 0, step = 0, kinetic = 0;
+  double run_zone_steps = 0, run_unresolved_steps = 0;  // over the run: fail-safe ran; crossings left
   bool ok = true;
   // The split: means per step over the sampled steps.
   double split_step = 0, assembly = 0, seams = 0, solve = 0, contact = 0, self = 0, rest = 0;
   double solves = 0, contacts = 0, proximity = 0;  // medians over the sampled steps
+  double zone_steps = 0, unresolved_steps = 0;     // sampled steps: fail-safe ran; crossings left
   int sampled = 0;
   bool split_ok = true, same_as_scene = true;
 };
@@ -148,15 +153,15 @@ class SystemSink final : public drape::ForceDerivatives<double> {
   double m_dt;
 };
 
-/// The whole run of one edge length, as drape-render steps it; `from_state` gets the state at o.from.
-void whole_run(const Options& o, const drape::scene_file::Settings& s, Result& out, std::vector<double>& runs,
-               std::vector<double>& setups, std::vector<double>& steps, std::vector<double>& energies,
-               drape::Stated* from_state) {
+/// The whole run of one edge length, as drape-render steps it, into `out`: each step's time
+/// appended to `steps`, and the state at o.from into `from`.
+void whole_run(const Options& o, const drape::scene_file::Settings& s, Result& out, std::vector<double>& steps,
+               drape::Stated& from) {
   Clock::time_point t0 = Clock::now();
   drape::scene_file::PreparedScene prepared = drape::scene_file::prepare_scene(s);
   drape::ClothScene<double> scene(prepared.specs, s.integrator, s.stepping, s.cloth.self_collision);
   scene.state(0) = std::move(prepared.start);
-  setups.push_back(seconds_since(t0));
+  out.setup = seconds_since(t0);
   const double dt = s.stepping.dt;
   const int count = int(std::llround(s.time.duration / dt));
   const int from_step = int(std::llround(o.from / dt));
@@ -165,22 +170,22 @@ void whole_run(const Options& o, const drape::scene_file::Settings& s, Result& o
   const drape::SeamSprings<double>* seams = seam_term(scene.cloth(0));
   out.seam_pairs = seams ? int(seams->pairs().size()) : 0;
   out.steps = count;
-  double run = 0;
   for (int k = 0; k < count; ++k) {
-    if (k == from_step) *from_state = scene.state(0);
+    if (k == from_step) from = scene.state(0);
     t0 = Clock::now();
     const drape::StepStatus status = scene.step();
     const double t = seconds_since(t0);
-    run += t;
+    out.run += t;
     steps.push_back(t);
     if (!status.ok()) {
       out.ok = false;
       std::fprintf(stderr, "edge %.3g cm: step %d failed: %s\n", out.edge_cm, k, drape::to_string(status.error));
-      break;
+      return;
     }
+    if (scene.collision_report().failsafe()) ++out.run_zone_steps;
+    if (scene.collision_report().unresolved > 0) ++out.run_unresolved_steps;
   }
-  runs.push_back(run);
-  energies.push_back(drape::kinetic_energy(scene.cloth(0), scene.state(0)));
+  out.kinetic = drape::kinetic_energy(scene.cloth(0), scene.state(0));
 }
 
 /// The split of S steps from `from`, the phases as ClothScene takes them (file comment).
@@ -289,6 +294,8 @@ void split(const Options& o, const drape::scene_file::Settings& s, const drape::
     solve_counts.push_back(solves);
     contact_counts.push_back(integrator.contact_report().contacts);
     proximity_counts.push_back(self.report().proximity_pairs);
+    if (self.report().failsafe()) ++out.zone_steps;
+    if (self.report().unresolved > 0) ++out.unresolved_steps;
   }
   out.sampled = int(steps.size());
   out.split_step = mean(steps);
@@ -311,34 +318,34 @@ Result measure(const Options& o, double edge_cm) {
     throw std::runtime_error("shirt.toml: the tool needs the implicit integrator, a collider and self-collision");
   if (!(o.from + s.stepping.dt < s.time.duration))
     throw std::runtime_error("--from " + std::to_string(o.from) + ": the split must start before the scene ends");
-  Result out;
-  out.edge_cm = edge_cm;
-  std::vector<double> runs, setups, steps, energies;
-  std::vector<Result> splits;
-  for (int r = 0; r < o.runs && out.ok; ++r) {
-    drape::Stated from;
-    whole_run(o, s, out, runs, setups, steps, energies, &from);
-    if (!out.ok) break;
+  std::vector<Result> parts;
+  std::vector<double> steps;
+  for (int r = 0; r < o.runs; ++r) {
     Result part;
-    split(o, s, from, part);
+    part.edge_cm = edge_cm;
+    drape::Stated from;
+    whole_run(o, s, part, steps, from);
+    if (part.ok) split(o, s, from, part);
+    parts.push_back(part);
+    if (!part.ok) break;
+  }
+  Result out = parts.front();
+  for (const Result& part : parts) {
+    out.ok = out.ok && part.ok;
     out.split_ok = out.split_ok && part.split_ok;
     out.same_as_scene = out.same_as_scene && part.same_as_scene;
-    splits.push_back(part);
   }
-  out.run = median(runs);
-  out.setup = reading + median(setups);
-  out.step = median(steps);
-  out.kinetic = median(energies);
-  const auto over_runs = [&](double Result::*field) {
+  for (double Result::*field :
+       {&Result::setup, &Result::run, &Result::kinetic, &Result::run_zone_steps, &Result::run_unresolved_steps,
+        &Result::split_step, &Result::assembly, &Result::seams, &Result::solve, &Result::contact, &Result::self,
+        &Result::rest, &Result::solves, &Result::contacts, &Result::proximity, &Result::zone_steps,
+        &Result::unresolved_steps}) {
     std::vector<double> v;
-    for (const Result& part : splits) v.push_back(part.*field);
-    return median(v);
-  };
-  out.sampled = splits.empty() ? 0 : splits.front().sampled;
-  for (double Result::*field : {&Result::split_step, &Result::assembly, &Result::seams, &Result::solve,
-                                &Result::contact, &Result::self, &Result::rest, &Result::solves, &Result::contacts,
-                                &Result::proximity})
-    out.*field = over_runs(field);
+    for (const Result& part : parts) v.push_back(part.*field);
+    out.*field = median(v);
+  }
+  out.setup += reading;
+  out.step = median(steps);
   return out;
 }
 
@@ -398,14 +405,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "edge %.3g cm: %d vertices, run %s\n", edge, r.vertices, drape_bench::duration(r.run).c_str());
   }
   std::printf("| edge | vertices | triangles | seam pairs | steps | set-up | run (2.5 s simulated) | step (median) | "
-              "kinetic energy at the end | ok |\n");
-  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+              "fail-safe steps (crossings left) | kinetic energy at the end | ok |\n");
+  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   for (const Result& r : results)
-    std::printf("| %.3g cm | %d | %d | %d | %d | %s | %s | %s | %.2g J | %s |\n", r.edge_cm, r.vertices, r.triangles,
-                r.seam_pairs, r.steps, drape_bench::duration(r.setup).c_str(), drape_bench::duration(r.run).c_str(),
-                drape_bench::duration(r.step).c_str(), r.kinetic, r.ok ? "ok" : "**failed**");
+    std::printf("| %.3g cm | %d | %d | %d | %d | %s | %s | %s | %.0f (%.0f) | %.2g J | %s |\n", r.edge_cm, r.vertices,
+                r.triangles, r.seam_pairs, r.steps, drape_bench::duration(r.setup).c_str(),
+                drape_bench::duration(r.run).c_str(), drape_bench::duration(r.step).c_str(), r.run_zone_steps,
+                r.run_unresolved_steps, r.kinetic, r.ok ? "ok" : "**failed**");
   std::printf("\n| edge | step (mean) | assembly | of which seams | solve (solves) | body contact (nodes) | "
-              "self-collision (pairs) | rest |\n");
+              "self-collision (pairs; fail-safe steps, crossings left) | rest |\n");
   std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   bool all_ok = true, all_same = true;
   for (const Result& r : results) {
@@ -415,14 +423,16 @@ int main(int argc, char** argv) {
       std::printf("| %.3g cm | - | - | - | - | - | - | - |\n", r.edge_cm);
       continue;
     }
-    std::printf("| %.3g cm | %s | %s | %s | %s (%.0f) | %s (%.0f) | %s (%.0f) | %s |\n", r.edge_cm,
+    std::printf("| %.3g cm | %s | %s | %s | %s (%.0f) | %s (%.0f) | %s (%.0f; %.0f, %.0f) | %s |\n", r.edge_cm,
                 drape_bench::duration(r.split_step).c_str(), share(r.assembly, r.split_step).c_str(),
                 share(r.seams, r.split_step).c_str(), share(r.solve, r.split_step).c_str(), r.solves,
                 share(r.contact, r.split_step).c_str(), r.contacts, share(r.self, r.split_step).c_str(), r.proximity,
-                share(r.rest, r.split_step).c_str());
+                r.zone_steps, r.unresolved_steps, share(r.rest, r.split_step).c_str());
   }
-  std::printf("\n%d threads; median of %d run(s); step (median): over the run's steps; split: means per step over "
-              "%d steps from t = %.3g s; the split's steps give ClothScene's bits: %s\n",
+  std::printf("\n%d threads; median of %d run(s); step (median): over the run's steps; fail-safe steps: steps in "
+              "which self-collision moved impact zones, crossings left: of which it gave up with a pair still "
+              "crossing; split: means per step over %d steps from t = %.3g s; the split's steps give ClothScene's "
+              "bits: %s\n",
               o.threads, o.runs, o.steps, o.from, all_same ? "yes" : "**no**");
   return all_ok && all_same ? 0 : 1;
 }
