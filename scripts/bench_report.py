@@ -684,6 +684,7 @@ def main():
             "build/bench/bench/drape_panel_meshing                            # garment panels meshed: time, angles (docs/panel_meshing.md)",
             "build/bench/bench/drape_usd_export 256 120 /tmp                 # the USD file against OBJ frames (docs/viewer.md)",
             "build/bench/bench/drape_body_contact 33 65 129                   # the body mesh's share of the shawl's step (docs/contact.md)",
+            "build/bench/bench/drape_garment_cost 1 1.25 1.5 2                # what the T-shirt scene's time is spent on (docs/garments.md)",
             "```", "", "[performance.md](performance.md) explains the figures and gives the command behind each of its own.", ""]
     open(args.markdown, "w").write("\n".join(out))
     if args.plot and not args.keep_plot:
