@@ -14,6 +14,7 @@
 #include "drape/model/cloth.hpp"
 #include "drape/pattern_io/read_sewing_pattern.hpp"
 #include "drape/physics/seam_springs.hpp"
+#include "garment/mesh_in_scalar.hpp"
 
 using namespace drape;
 
@@ -46,17 +47,6 @@ SewingPattern two_rectangles() {
   p.stitches.push_back(s);
   validate(p);
   return p;
-}
-
-/// The mesh in Scalar.
-template <class S>
-ClothMesh<S> in_scalar(const ClothMesh<double>& m) {
-  ClothMesh<S> out;
-  out.positions = m.positions.cast<S>();
-  out.triangles = m.triangles;
-  out.rest_uv = m.rest_uv.cast<S>();
-  out.groups = m.groups;
-  return out;
 }
 
 }  // namespace
@@ -114,7 +104,7 @@ TEMPLATE_TEST_CASE("two flat panels sewn edge to edge become one flat sheet", "[
   const SewingPattern pattern = two_rectangles();
   const GarmentMesh g = garment_mesh(pattern, 0.03);
   ClothSpec<S> spec;
-  spec.mesh = in_scalar<S>(g.mesh);
+  spec.mesh = drape::test::in_scalar<S>(g.mesh);
   spec.pinned_nodes = std::vector<int>{};
   spec.gravity = 0;
   spec.areal_density = S(0.2);

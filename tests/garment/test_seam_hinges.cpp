@@ -20,6 +20,7 @@
 #include "drape/integrators/implicit_euler.hpp"
 #include "drape/pattern_io/read_sewing_pattern.hpp"
 #include "physics/dihedral_checks.hpp"
+#include "garment/mesh_in_scalar.hpp"
 
 using namespace drape;
 using namespace drape::test::dihedral;
@@ -56,16 +57,6 @@ SewingPattern sewn_strip(int pieces, double length, double width) {
   }
   validate(p);
   return p;
-}
-
-template <class S>
-ClothMesh<S> in_scalar(const ClothMesh<double>& m) {
-  ClothMesh<S> out;
-  out.positions = m.positions.cast<S>();
-  out.triangles = m.triangles;
-  out.rest_uv = m.rest_uv.cast<S>();
-  out.groups = m.groups;
-  return out;
 }
 
 /// The term in Scalar, hinge for hinge.
@@ -219,7 +210,7 @@ double settled_tip(int pieces, bool seam_bending) {
     spec = g.spec;
     spec.force_terms = terms;
   } else {
-    spec.mesh = in_scalar<S>(g.pieces.mesh);
+    spec.mesh = drape::test::in_scalar<S>(g.pieces.mesh);
     spec.areal_density = S(*g.spec.areal_density);
     spec.gravity = 0;
     const auto& sp = g.spec.springs;
