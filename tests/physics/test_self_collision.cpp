@@ -198,6 +198,38 @@ TEST_CASE("self-collision: impact zones alone keep a triangle from passing throu
   CHECK((x_new * masses - x * masses).y() / masses.sum() == Approx(-0.15));  // the centre of mass moved as before
 }
 
+TEMPLATE_TEST_CASE("self-collision: two layers pressed together by colliders end the fail-safe with no crossing left",
+                   "[self-collision][failsafe]", float, double) {
+  using T = TestType;
+  // A vertex 0.5 um above a triangle (within the continuous test's touching tolerance), the
+  // triangle held by a collider below and the vertex's triangle by one above (a fold squeezed
+  // between arm and torso): proximity cannot part them, so the fail-safe takes the pair. Once its
+  // zone has moved rigidly the pair keeps its start shape and cannot cross: the fail-safe ends
+  // with nothing unresolved and leaves the resting layers where they are.
+  SelfCollisionSettings<T> settings;
+  settings.enabled = true;
+  settings.impulse_rounds = 0;
+  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 4, 5}};
+  Matrix3X<double> start(3, 6);
+  start << 0, 1, 0, 0.2, 1.2, 0.2,  //
+      0, 0, 0, 5e-7, 5e-3, 5e-3,    //
+      0, 0, 1, 0.2, 0.2, 1.2;
+  const Matrix3X<T> x = start.cast<T>();
+  const VectorX<T> masses = VectorX<T>::Constant(6, T(0.01));
+  SelfCollisionHandler<T> handler(settings, T(0.005), triangles, masses, x);
+  const T dt = T(0.01);
+  Matrix3X<T> v = Matrix3X<T>::Zero(3, 6);
+  Matrix3X<T> x_new = x;
+  const ColliderHold<T> below{Vec3<T>(0, 1, 0), T(0.5)}, above{Vec3<T>(0, -1, 0), T(0.5)};
+  handler.respond(x, dt, x_new, v, std::vector<std::uint8_t>(6, 0),
+                  [&](int i) { return i < 3 ? below : above; });
+  CHECK(handler.report().zones == 1);
+  CHECK(handler.report().unresolved == 0);
+  CHECK((x_new - x).norm() < 1e-6 * x.norm());
+  CHECK(v.norm() < T(1e-4));
+  CHECK_FALSE(test::first_intersection(x_new, triangles).found);
+}
+
 TEST_CASE("self-collision: a layer pressing a collider-held node into its collider does not slide it",
           "[self-collision][held]") {
   // A flat triangle held by a collider whose normal leans 30 degrees from the triangle's (a

@@ -20,7 +20,9 @@
 ///     cross are merged into zones that move rigidly over the step (their momentum and angular
 ///     momentum kept), merged further while crossings remain. A rigid motion of a zone that did not
 ///     intersect at the start cannot make it intersect (the straight paths between two poses are an
-///     affine map that stays invertible for rotations under pi), so this ends without crossings.
+///     affine map that stays invertible for rotations under pi), so this ends without crossings;
+///     pairs inside one zone that moved rigidly are therefore not tested again (two layers that
+///     touch at the start, pressed together by colliders, would otherwise count as meeting).
 /// A node's share of an impulse follows its inverse mass: pinned nodes take none. A node held by
 /// a collider this step moves only away from it (a contact stops motion one way only), and along
 /// its surface only if the collider's static friction is below the layers' friction: otherwise
@@ -143,6 +145,7 @@ class SelfCollisionHandler {
   /// pairs' nodes merged into zones. Returns the crossings found.
   int collisions(const ConstRef3X<Scalar>& x, Scalar dt, bool resolve);
   void merge_zone(const Pair& pair);
+  bool in_one_rigid_zone(const Pair& pair);
   void move_zones_rigidly(const ConstRef3X<Scalar>& x, Scalar dt);
   int zone_root(int node);
   /// How node i moves when pushed along the unit vector d: freely unless a collider holds it;
@@ -176,6 +179,7 @@ class SelfCollisionHandler {
   Matrix3X<Scalar> m_received;              // momentum from contacts
   std::vector<std::array<int, 2>> m_triangle_pairs;
   std::vector<int> m_zone_parent;  // union-find over nodes, -1 = not in a zone
+  std::vector<std::uint8_t> m_zone_rigid;  // by root: the zone moved rigidly and nothing joined it since
   std::vector<int> m_zone_members;
   std::vector<int> m_zone_begin;  // zone of root r: members [begin[r], begin[r + 1])
   std::vector<int> m_zone_fill;
@@ -214,6 +218,7 @@ void SelfCollisionHandler<Scalar>::build(const std::vector<std::array<int, 3>>& 
   m_dv.resize(3, n);
   m_received.resize(3, n);
   m_zone_parent.assign(static_cast<std::size_t>(n), -1);
+  m_zone_rigid.assign(static_cast<std::size_t>(n), 0);
 }
 
 template <class Scalar>
@@ -366,6 +371,9 @@ int SelfCollisionHandler<Scalar>::collisions(const ConstRef3X<Scalar>& x, Scalar
       swept[2 * j + 1] = end[j];
     }
     if (detail::sides_apart(swept, vertex_triangle ? 2 : 4, m_impact_tolerance)) return;
+    // Inside one zone that moved rigidly the pair's shape is its start's: it cannot cross (a pair
+    // touching at the start, within the tolerance, would otherwise count at every pass).
+    if (!resolve && in_one_rigid_zone(pair)) return;
     const std::optional<Scalar> hit = vertex_triangle ? vertex_triangle_impact(start, end, m_impact_tolerance)
                                                       : edge_edge_impact(start, end, m_impact_tolerance);
     if (!hit) return;
@@ -420,16 +428,30 @@ template <class Scalar>
 void SelfCollisionHandler<Scalar>::merge_zone(const Pair& pair) {
   int root = -1;
   for (int node : pair.node) {
-    if (m_zone_parent[std::size_t(node)] < 0) m_zone_parent[std::size_t(node)] = node;
+    if (m_zone_parent[std::size_t(node)] < 0) {
+      m_zone_parent[std::size_t(node)] = node;
+      m_zone_rigid[std::size_t(node)] = 0;
+    }
     const int r = zone_root(node);
     if (root < 0) {
       root = r;
     } else if (r != root) {  // the smaller id becomes the root: the same zones for the same input
       const int low = std::min(r, root), high = std::max(r, root);
       m_zone_parent[std::size_t(high)] = low;
+      m_zone_rigid[std::size_t(low)] = 0;  // its parts moved apart: not one rigid motion
       root = low;
     }
   }
+}
+
+template <class Scalar>
+bool SelfCollisionHandler<Scalar>::in_one_rigid_zone(const Pair& pair) {
+  if (m_zone_parent[std::size_t(pair.node[0])] < 0) return false;
+  const int root = zone_root(pair.node[0]);
+  if (m_zone_rigid[std::size_t(root)] == 0) return false;
+  for (std::size_t j = 1; j < 4; ++j)
+    if (m_zone_parent[std::size_t(pair.node[j])] < 0 || zone_root(pair.node[j]) != root) return false;
+  return true;
 }
 
 template <class Scalar>
@@ -491,14 +513,19 @@ void SelfCollisionHandler<Scalar>::move_zones_rigidly(const ConstRef3X<Scalar>& 
       if (turn > 0 && std::isfinite(turn))
         rotation = Eigen::AngleAxis<Scalar>(angle.norm(), angle.normalized()).toRotationMatrix();
     }
+    // Rigid unless a pinned node, which keeps its own path, ends off the zone's motion.
+    const Scalar slack = Scalar(0.01) * m_impact_tolerance;
+    bool rigid = true;
     for (int k = begin; k < end; ++k) {
       const int i = m_zone_members[std::size_t(k)];
       const Vec3<Scalar> moved = centre + shift + rotation * (x.col(i) - centre);
+      if (m_inverse_mass[i] == 0 && (moved - m_x1.col(i)).norm() > slack) rigid = false;
       const Vec3<Scalar> change = (m_inverse_mass[i] == 0) ? Vec3<Scalar>::Zero() : Vec3<Scalar>(moved - m_x1.col(i));
       m_x1.col(i) += change;
       m_dv.col(i) += change / dt;
       m_received.col(i) += (m_mass[i] / dt) * change;
     }
+    m_zone_rigid[std::size_t(root)] = rigid ? 1 : 0;
   }
 }
 
