@@ -16,17 +16,18 @@
 /// as three phases: the integrator's step (assembly, contacts as constraints of the solve, the
 /// solves, the collider response and the end-of-step check; self-collision off in the cloth),
 /// then the scene's self-collision handler on the whole result, then the colliders' end-of-step
-/// check again. The tool takes these three phases itself in that order, on a new integrator and
-/// handler from the state at F, and times each; a ClothScene stepped beside it from the same
-/// state (untimed) must give the same positions and velocities bit for bit, and the output says
-/// whether it did.
-/// - **self-collision**: the handler's respond() (proximity, continuous tests with impulses,
-///   impact zones when needed), timed where it runs.
+/// check again, alternating with self-collision while the check pushes nodes out
+/// (SelfCollisionHandler::respond_and_keep_clear). The tool takes these phases itself in that
+/// order, on a new integrator and handler from the state at F, and times each; a ClothScene
+/// stepped beside it from the same state (untimed) must give the same positions and velocities
+/// bit for bit, and the output says whether it did.
+/// - **self-collision**: the handler's passes (proximity, continuous tests with impulses,
+///   impact zones when needed), timed where they run.
 /// - **body contact**: the contact handling inside the integrator's step, replayed after it on a
 ///   second handler from the same inputs as bench/body_contact.cpp does (detection into the
 ///   solve's constraints with the body's bounds, one revise() per solve of the step with its
-///   final solution, the response, the end-of-step check), plus the scene's second end-of-step
-///   check, timed where it runs.
+///   final solution, the response, the end-of-step check), plus the scene's end-of-step checks
+///   after self-collision, timed where they run.
 /// - **assembly**: JacobianAssembler::assemble_system() replayed on a second assembler and
 ///   system from the step's start state (springs, dihedral bending, seams, ramped gravity).
 /// - **seams** (part of the assembly): the seam term's SeamSprings::add_force_and_derivatives()
@@ -232,13 +233,18 @@ void split(const Options& o, const drape::scene_file::Settings& s, const drape::
       out.split_ok = false;
       break;
     }
+    double t_clear = 0;
     t0 = Clock::now();
-    self.respond(before.positions, dt, state.positions, state.velocities, pinned,
-                 [&](int i) { return integrator.contact_handler().hold(i); });
-    const double t_self = seconds_since(t0);
-    t0 = Clock::now();
-    integrator.keep_clear(state.positions, state.velocities);
-    const double t_clear = seconds_since(t0);
+    self.respond_and_keep_clear(
+        before.positions, dt, state.positions, state.velocities, pinned,
+        [&](int i) { return integrator.contact_handler().hold(i); },
+        [&](drape::Ref3X<double> x1, drape::Ref3X<double> v1) {
+          const Clock::time_point t1 = Clock::now();
+          const int pushed = integrator.keep_clear(x1, v1);
+          t_clear += seconds_since(t1);
+          return pushed;
+        });
+    const double t_self = seconds_since(t0) - t_clear;
     if (!check.step().ok() || check.state(0).positions != state.positions ||
         check.state(0).velocities != state.velocities)
       out.same_as_scene = false;

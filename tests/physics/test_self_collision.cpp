@@ -19,6 +19,7 @@
 #include "collision/cloth_shapes.hpp"
 #include "collision/mesh_checks.hpp"
 #include "drape/collision/mesh_topology.hpp"
+#include "drape/contact/contact_handler.hpp"
 #include "drape/core/mesh_generators.hpp"
 #include "drape/fwd.hpp"
 #include "drape/integrators/make_integrator.hpp"
@@ -228,6 +229,57 @@ TEMPLATE_TEST_CASE("self-collision: two layers pressed together by colliders end
   CHECK((x_new - x).norm() < 1e-6 * x.norm());
   CHECK(v.norm() < T(1e-4));
   CHECK_FALSE(test::first_intersection(x_new, triangles).found);
+}
+
+TEMPLATE_TEST_CASE("self-collision: a node the end-of-step check pushes out of a collider does not pass through the layer above",
+                   "[self-collision][keep-clear]", float, double) {
+  // A heavy triangle B falls onto the tip p of a light triangle A, which sits 1 mm above the contact
+  // layer of a small sphere (h = 5 mm): the impulse drives p 2 mm into the layer. The colliders'
+  // check then pushes p out along the sphere's normal, up by 2 mm, past B, which stopped 1 mm above
+  // it: one pass of self-collision and then the check leaves A through B. Alternating them, p is
+  // held by the sphere in the second pass, so B gives way instead.
+  using T = TestType;
+  const T h = T(0.005);
+  const std::vector<Collider<T>> colliders = {Collider<T>::sphere(Vec3<T>(0, T(-0.05), 0), T(0.05))};
+  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 4, 5}};
+  Matrix3X<double> start(3, 6), end(3, 6);
+  start << 0, 0.25, -0.25, -0.3, 0.3, 0,  //
+      0.006, -0.05, -0.05, 0.02, 0.02, 0.02,  //
+      0, 0.05, 0.05, -0.3, -0.3, 0.4;
+  end = start;
+  end.rightCols(3).row(1).setConstant(0.004);  // B falls 16 mm in the step, through p
+  VectorX<T> masses(6);
+  masses << T(0.001), T(0.001), T(0.001), T(0.1), T(0.1), T(0.1);
+  const Matrix3X<T> x = start.cast<T>();
+  const T dt = T(0.01);
+  const std::vector<std::uint8_t> pinned(6, 0);
+  SelfCollisionSettings<T> settings;
+  settings.enabled = true;
+  auto run = [&](bool alternate) {
+    ContactHandler<T> contacts(colliders, h, masses);
+    SelfCollisionHandler<T> self(settings, h, triangles, masses, x);
+    Matrix3X<T> x_new = end.cast<T>(), v = (x_new - x) / dt;
+    contacts.respond(x, (x_new - x) / dt, 0, dt, x_new, v, pinned);
+    REQUIRE(contacts.report().contacts == 0);  // nothing touches the sphere before the layers meet
+    auto held = [&](int i) { return contacts.hold(i); };
+    if (alternate) {
+      self.respond_and_keep_clear(x, dt, x_new, v, pinned, held,
+                                  [&](Ref3X<T> x1, Ref3X<T> v1) { return contacts.keep_clear(x1, v1, pinned); });
+      CHECK(self.report().clear_passes == 1);
+    } else {
+      self.respond(x, dt, x_new, v, pinned, held);
+      CHECK(contacts.keep_clear(x_new, v, pinned) == 1);  // p alone
+    }
+    CHECK(self.report().unresolved == 0);
+    const T depth = h - (x_new.col(0) - Vec3<T>(0, T(-0.05), 0)).norm() + T(0.05);
+    CHECK(depth <= T(0.01) * h + T(1e-6));  // p ends outside the sphere's layer either way
+    return x_new;
+  };
+  const Matrix3X<T> once = run(false);
+  CHECK(test::first_intersection(once, triangles).found);  // the check passed p through B
+  const Matrix3X<T> alternating = run(true);
+  CHECK_FALSE(test::first_intersection(alternating, triangles).found);
+  CHECK(alternating(1, 0) < alternating(1, 3));  // p below B, as it started
 }
 
 TEST_CASE("self-collision: a layer pressing a collider-held node into its collider does not slide it",

@@ -78,7 +78,9 @@ class ContactHandler {
         m_thickness(contact_thickness),
         m_tolerance(detail::contact_tolerance(contact_thickness)),
         m_slot(static_cast<std::size_t>(masses.size()), -1),
-        m_let_go(static_cast<std::size_t>(masses.size()), -1) {}
+        m_let_go(static_cast<std::size_t>(masses.size()), -1),
+        m_set_back_collider(static_cast<std::size_t>(masses.size()), -1),
+        m_set_back_normal(3, masses.size()) {}
   ContactHandler(const std::vector<Collider<Scalar>>&& colliders, Scalar contact_thickness,
                  const VectorX<Scalar>& masses) = delete;
   ContactHandler(const std::vector<Collider<Scalar>>& colliders, Scalar contact_thickness,
@@ -88,11 +90,16 @@ class ContactHandler {
   bool active() const { return !m_colliders->empty(); }
   const ContactReport<Scalar>& report() const { return m_report; }
   /// After respond(): how the collider node `i` touches this step holds it (not held: zero normal).
+  /// A node keep_clear() set back onto a collider this step is held by it too.
   ColliderHold<Scalar> hold(int i) const {
     const int slot = m_slot[static_cast<std::size_t>(i)];
-    if (slot < 0) return {};
-    const Contact& contact = m_contacts[static_cast<std::size_t>(slot)];
-    return {contact.normal, (*m_colliders)[static_cast<std::size_t>(contact.collider)].static_friction()};
+    if (slot >= 0) {
+      const Contact& contact = m_contacts[static_cast<std::size_t>(slot)];
+      return {contact.normal, (*m_colliders)[static_cast<std::size_t>(contact.collider)].static_friction()};
+    }
+    const int collider = m_set_back_collider[static_cast<std::size_t>(i)];
+    if (collider < 0) return {};
+    return {m_set_back_normal.col(i), (*m_colliders)[static_cast<std::size_t>(collider)].static_friction()};
   }
 
   /// Implicit step, before the first solve: the nodes that touch a collider, or would reach one
@@ -116,8 +123,9 @@ class ContactHandler {
   /// The end-of-step check, after respond() and after the cloth against itself (whose pushes may
   /// move a node that no contact holds towards a collider): every free node at its end position
   /// against every collider at the step's end; one deeper than h by more than the tolerance is
-  /// pushed out to h and loses its approaching velocity (`ContactReport::corrected`).
-  void keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new, const std::vector<std::uint8_t>& pinned);
+  /// pushed out to h and loses its approaching velocity (`ContactReport::corrected`), and hold()
+  /// counts it as held for the rest of the step. Returns the nodes pushed out by this call.
+  int keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new, const std::vector<std::uint8_t>& pinned);
 
  private:
   struct Contact {
@@ -171,6 +179,7 @@ class ContactHandler {
   bool sweep(int node, const Vec3<Scalar>& x0, const Vec3<Scalar>& x1, Scalar dt, Scalar offset, Contact& out) const;
   void add(const Contact& contact, ConstraintFilter<Scalar>* c, const ConstRef3X<Scalar>& v);
   void release_rows(ConstraintFilter<Scalar>& c);
+  void forget_set_back();
   /// Coulomb friction on a node in contact (its velocity, in place), and the report's totals.
   void apply_friction(const Contact& contact, Vec3<Scalar>& velocity, Scalar mass, Scalar dt);
 
@@ -183,6 +192,11 @@ class ContactHandler {
   std::vector<int> m_slot;          // per node: index into m_contacts, -1 if none
   // Per node: the step (m_step) in which revise() let its contact go because it pulled.
   std::vector<long long> m_let_go;
+  // Per node: the collider keep_clear() set it back onto this step (-1: none) and that collider's
+  // normal there; the nodes set back, to forget them at the next step.
+  std::vector<int> m_set_back_collider;
+  Matrix3X<Scalar> m_set_back_normal;
+  std::vector<int> m_set_back;
   long long m_step = 0;          // constrain() calls
   std::vector<Bounds> m_bounds;  // per collider, this step's
   // Per collider: a deforming mesh over this step (null for the others), made at its first step.
@@ -319,6 +333,7 @@ template <class Scalar>
 void ContactHandler<Scalar>::constrain(const ConstRef3X<Scalar>& x, const ConstRef3X<Scalar>& v, Scalar t, Scalar dt,
                                        const std::vector<int>& row_of_node, ConstraintFilter<Scalar>& c) {
   release_rows(c);
+  forget_set_back();
   m_report = {};
   m_constrained = true;
   ++m_step;
@@ -424,6 +439,7 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
   if (!m_constrained) {  // a step without constrain() (RK2): start afresh
     for (const Contact& contact : m_contacts) m_slot[static_cast<std::size_t>(contact.node)] = -1;
     m_contacts.clear();
+    forget_set_back();
     m_report = {};
     bound(t, dt);
   }
@@ -458,9 +474,16 @@ void ContactHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, const ConstRef
 }
 
 template <class Scalar>
-void ContactHandler<Scalar>::keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new,
-                                        const std::vector<std::uint8_t>& pinned) {
-  if (!active()) return;
+void ContactHandler<Scalar>::forget_set_back() {
+  for (int i : m_set_back) m_set_back_collider[static_cast<std::size_t>(i)] = -1;
+  m_set_back.clear();
+}
+
+template <class Scalar>
+int ContactHandler<Scalar>::keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new,
+                                       const std::vector<std::uint8_t>& pinned) {
+  if (!active()) return 0;
+  int pushed = 0;
   const std::vector<Collider<Scalar>>& colliders = *m_colliders;
   const Scalar h = m_thickness;
   // The guarantee: no node ends deeper than the tolerance.
@@ -486,8 +509,13 @@ void ContactHandler<Scalar>::keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new
       const Scalar approach = q.normal.dot(v_new.col(i) - q.velocity);
       if (approach < 0) v_new.col(i) -= approach * q.normal;
       ++m_report.corrected;
+      ++pushed;
+      if (m_set_back_collider[static_cast<std::size_t>(i)] < 0) m_set_back.push_back(static_cast<int>(i));
+      m_set_back_collider[static_cast<std::size_t>(i)] = static_cast<int>(k);
+      m_set_back_normal.col(i) = q.normal;
     }
   }
+  return pushed;
 }
 
 }  // namespace drape

@@ -58,6 +58,7 @@ struct SelfCollisionReport {
   int zones = 0;            ///< impact zones the fail-safe moved rigidly (0: not needed)
   int zone_nodes = 0;       ///< nodes in those zones
   int unresolved = 0;       ///< crossings left when the fail-safe gave up (0 in every tested scene)
+  int clear_passes = 0;     ///< passes run again after the colliders' end-of-step check pushed nodes out
   bool failsafe() const { return zones > 0; }
 };
 
@@ -120,7 +121,28 @@ class SelfCollisionHandler {
   /// step (ColliderHold: zero normal if none).
   template <class Held>
   void respond(const ConstRef3X<Scalar>& x, Scalar dt, Ref3X<Scalar> x_new, Ref3X<Scalar> v_new,
-               const std::vector<std::uint8_t>& pinned, const Held& held);
+               const std::vector<std::uint8_t>& pinned, const Held& held) {
+    respond_pass(x, dt, x_new, v_new, pinned, held, false);
+  }
+
+  /// respond(), then the colliders' end-of-step check `keep_clear(x_new, v_new)`, which returns the
+  /// nodes it pushed out of a collider and holds them there for the rest of the step (`held`
+  /// then says so). A node pushed out along the collider's normal may pass through a layer resting
+  /// on it (a layer the handler had pushed the node towards the collider to clear), so while the
+  /// check pushes any node out the handler runs again on the paths from `x` (the report sums the
+  /// passes; `unresolved` is the last pass's), at most `clear_passes` times; the check is last.
+  template <class Held, class KeepClear>
+  void respond_and_keep_clear(const ConstRef3X<Scalar>& x, Scalar dt, Ref3X<Scalar> x_new, Ref3X<Scalar> v_new,
+                              const std::vector<std::uint8_t>& pinned, const Held& held,
+                              const KeepClear& keep_clear) {
+    respond_pass(x, dt, x_new, v_new, pinned, held, false);
+    for (int pass = 0; keep_clear(x_new, v_new) > 0 && pass < clear_passes; ++pass) {
+      ++m_report.clear_passes;
+      respond_pass(x, dt, x_new, v_new, pinned, held, true);
+    }
+  }
+  /// How many times respond_and_keep_clear() runs the handler again after the end-of-step check.
+  static constexpr int clear_passes = 4;
 
  private:
   /// A vertex-triangle pair (p; a, b, c) or an edge-edge pair (p0, p1; q0, q1): four nodes with
@@ -146,6 +168,11 @@ class SelfCollisionHandler {
   int collisions(const ConstRef3X<Scalar>& x, Scalar dt, bool resolve);
   void merge_zone(const Pair& pair);
   bool in_one_rigid_zone(const Pair& pair);
+  /// respond()'s three stages; `again`: a further pass of the same step, added to its report and
+  /// received momentum.
+  template <class Held>
+  void respond_pass(const ConstRef3X<Scalar>& x, Scalar dt, Ref3X<Scalar> x_new, Ref3X<Scalar> v_new,
+                    const std::vector<std::uint8_t>& pinned, const Held& held, bool again);
   void move_zones_rigidly(const ConstRef3X<Scalar>& x, Scalar dt);
   int zone_root(int node);
   /// How node i moves when pushed along the unit vector d: freely unless a collider holds it;
@@ -531,10 +558,14 @@ void SelfCollisionHandler<Scalar>::move_zones_rigidly(const ConstRef3X<Scalar>& 
 
 template <class Scalar>
 template <class Held>
-void SelfCollisionHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, Scalar dt, Ref3X<Scalar> x_new,
-                                           Ref3X<Scalar> v_new, const std::vector<std::uint8_t>& pinned,
-                                           const Held& held) {
-  m_report = {};
+void SelfCollisionHandler<Scalar>::respond_pass(const ConstRef3X<Scalar>& x, Scalar dt, Ref3X<Scalar> x_new,
+                                                Ref3X<Scalar> v_new, const std::vector<std::uint8_t>& pinned,
+                                                const Held& held, bool again) {
+  if (!again) {
+    m_report = {};
+    m_received.setZero();
+  }
+  m_report.unresolved = 0;
   const Index n = x.cols();
   for (Index i = 0; i < n; ++i) {
     m_inverse_mass[i] = pinned[std::size_t(i)] != 0 ? Scalar(0) : Scalar(1) / m_mass[i];
@@ -544,7 +575,6 @@ void SelfCollisionHandler<Scalar>::respond(const ConstRef3X<Scalar>& x, Scalar d
   }
   m_x1 = x_new;
   m_dv.setZero();
-  m_received.setZero();
   // Proximity, then rounds of continuous tests, each followed by proximity again: the impulses of
   // a crossing leave its pair closer than 2h, which proximity restores before the next check.
   int found = 1;

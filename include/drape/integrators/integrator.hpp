@@ -76,7 +76,8 @@ class Integrator {
   const ContactHandler<Scalar>& contact_handler() const { return m_contacts; }
   /// The colliders' end-of-step check (ContactHandler::keep_clear) again, on a result moved after
   /// the step (a ClothScene's pushes between its cloths).
-  void keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new) { m_contacts.keep_clear(x_new, v_new, m_pins.mask()); }
+  /// Returns the nodes it pushed out.
+  int keep_clear(Ref3X<Scalar> x_new, Ref3X<Scalar> v_new) { return m_contacts.keep_clear(x_new, v_new, m_pins.mask()); }
   /// What the cloth's contacts did in the last step (empty without colliders).
   const ContactReport<Scalar>& contact_report() const { return m_contacts.report(); }
   /// What the cloth's self-collision did in the last step (empty when it is off).
@@ -110,9 +111,12 @@ class Integrator {
   void respond_to_contacts(const State<Scalar>& state, Scalar dt, Matrix3X<Scalar>& x_new, Matrix3X<Scalar>& v_new) {
     m_contacts.respond(state.positions, state.velocities, state.time, dt, x_new, v_new, m_pins.mask());
 #ifndef DRAPE_BUILD_WITHOUT_SELF_COLLISION  // defined only by the test that off changes nothing
-    if (m_self_collisions.active())
-      m_self_collisions.respond(state.positions, dt, x_new, v_new, m_pins.mask(),
-                                [this](int i) { return m_contacts.hold(i); });
+    if (m_self_collisions.active()) {
+      m_self_collisions.respond_and_keep_clear(
+          state.positions, dt, x_new, v_new, m_pins.mask(), [this](int i) { return m_contacts.hold(i); },
+          [this](Ref3X<Scalar> x1, Ref3X<Scalar> v1) { return m_contacts.keep_clear(x1, v1, m_pins.mask()); });
+      return;
+    }
 #endif
     m_contacts.keep_clear(x_new, v_new, m_pins.mask());
   }

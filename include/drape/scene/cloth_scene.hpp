@@ -160,15 +160,24 @@ StepStatus ClothScene<Scalar>::step() {
       const std::vector<std::uint8_t>& mask = m_integrators[k]->pins().mask();
       std::copy(mask.begin(), mask.end(), m_pinned.begin() + begin);
     }
-    m_collisions.respond(m_x0, m_integrators.front()->dt(), m_x1, m_v1, m_pinned, [this](int i) {
-      const int k = m_cloth_of_node[std::size_t(i)];
-      return m_integrators[std::size_t(k)]->contact_handler().hold(i - m_offset[std::size_t(k)]);
-    });
+    // The pushes between the cloths come after each cloth's own end-of-step check: check again.
+    m_collisions.respond_and_keep_clear(
+        m_x0, m_integrators.front()->dt(), m_x1, m_v1, m_pinned,
+        [this](int i) {
+          const int k = m_cloth_of_node[std::size_t(i)];
+          return m_integrators[std::size_t(k)]->contact_handler().hold(i - m_offset[std::size_t(k)]);
+        },
+        [this](Ref3X<Scalar> x1, Ref3X<Scalar> v1) {
+          int pushed = 0;
+          for (std::size_t k = 0; k < m_states.size(); ++k) {
+            const Index begin = m_offset[k], count = m_cloths[k]->node_count();
+            pushed += m_integrators[k]->keep_clear(x1.middleCols(begin, count), v1.middleCols(begin, count));
+          }
+          return pushed;
+        });
     if (!(m_x1.allFinite() && m_v1.allFinite())) status.error = StepError::NonFiniteState;
     for (std::size_t k = 0; k < m_states.size() && status.ok(); ++k) {
       const Index begin = m_offset[k], count = m_cloths[k]->node_count();
-      // The pushes between the cloths come after each cloth's own end-of-step check: check again.
-      m_integrators[k]->keep_clear(m_x1.middleCols(begin, count), m_v1.middleCols(begin, count));
       m_states[k].positions = m_x1.middleCols(begin, count);
       m_states[k].velocities = m_v1.middleCols(begin, count);
     }
