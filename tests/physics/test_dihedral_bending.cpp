@@ -129,6 +129,8 @@ TEST_CASE("dihedral bending from explicit hinges: sizes, ids and constants are c
   CHECK(term.has_derivatives());
   CHECK_FALSE(DihedralBending<double>(5, hinges, {{0, 0, 0}, {0, 0, 0}}).has_derivatives());
   CHECK(DihedralBending<double>(5, {}, {}).hinges().empty());
+  CHECK(DihedralBending<double>(5, {}, {}).name() == "dihedral bending");
+  CHECK(DihedralBending<double>(5, {}, {}, "seam hinges").name() == "seam hinges");
   CHECK_THROWS_WITH(DihedralBending<double>(0, {}, {}), Catch::Contains("'node count'"));
   CHECK_THROWS_WITH(DihedralBending<double>(5, hinges, {constants[0]}), Catch::Contains("'hinge constants'"));
   CHECK_THROWS_WITH(DihedralBending<double>(4, hinges, constants),

@@ -81,7 +81,7 @@ inline Garment dress_garment(const SewingPattern& pattern, const Fabric& fabric,
                                                   sewing.seam_damping, sewing.seam_closing_time);
   SeamHinges across = seam_hinges(g.pieces, hinge_stiffness(fabric), fabric.bending_damping);
   g.seam_bending = std::make_shared<DihedralBending<double>>(mesh.vertex_count(), std::move(across.hinges),
-                                                             std::move(across.constants));
+                                                             std::move(across.constants), "seam hinges");
   const VectorX<double> masses = mesh.vertex_areas() * fabric.areal_density;
   spec.force_terms = {g.seams,
                       std::make_shared<DihedralBending<double>>(mesh, hinge_stiffness(fabric), fabric.bending_damping),

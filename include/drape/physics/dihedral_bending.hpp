@@ -68,11 +68,13 @@ class DihedralBending final : public ForceTerm<Scalar> {
   /// \throws InvalidParameter naming `bending stiffness` or `bending damping` unless finite and
   /// >= 0, or as ClothMesh::validate() (naming `mesh`).
   DihedralBending(const ClothMesh<Scalar>& mesh, Scalar stiffness, Scalar damping = Scalar(0));
-  /// The given hinges of a cloth of `node_count` nodes, hinge k with `constants[k]`.
+  /// The given hinges of a cloth of `node_count` nodes, hinge k with `constants[k]`; `name` is the
+  /// term's name() (a garment's hinges across its seams: "seam hinges").
   /// \throws InvalidParameter naming `node count` (>= 1), `hinge constants` (one per hinge),
   /// `hinges[k]` (four distinct ids in [0, node_count)), `hinge constants[k].stiffness` or
   /// `.damping` (finite, >= 0) or `.rest_angle` (finite, in [-pi, pi]).
-  DihedralBending(int node_count, std::vector<Hinge> hinges, std::vector<HingeConstants> constants);
+  DihedralBending(int node_count, std::vector<Hinge> hinges, std::vector<HingeConstants> constants,
+                  std::string name = "dihedral bending");
 
   /// The constants of a hinge whose rest shape is (xa, xb, xc, xd) (edge (a, b), c opposite it in
   /// triangle (a, b, c), d in (b, a, d)), for the cloth's `stiffness` k and `damping` c: k and c
@@ -82,7 +84,7 @@ class DihedralBending final : public ForceTerm<Scalar> {
   static HingeConstants rest_constants(const Vec3<Scalar>& xa, const Vec3<Scalar>& xb, const Vec3<Scalar>& xc,
                                        const Vec3<Scalar>& xd, Scalar stiffness, Scalar damping);
 
-  std::string name() const override { return "dihedral bending"; }
+  std::string name() const override { return m_name; }
   /// The mesh constructor's k and c; 0 for a term of explicit hinges, whose constants are per hinge.
   Scalar stiffness() const { return m_stiffness; }
   Scalar damping() const { return m_damping; }
@@ -160,6 +162,7 @@ class DihedralBending final : public ForceTerm<Scalar> {
   bool m_active = false;  // some hinge has stiffness or damping
   bool m_damped = false;  // some hinge has damping
   int m_node_count = 0;
+  std::string m_name = "dihedral bending";
   std::vector<Hinge> m_hinges;  // by colour, then chunk
   std::vector<HingeConstants> m_constants;
   std::vector<int> m_chunk_begin;   // chunk q: hinges [begin[q], begin[q + 1])
@@ -284,8 +287,11 @@ DihedralBending<Scalar>::DihedralBending(const ClothMesh<Scalar>& mesh, Scalar s
 
 template <class Scalar>
 DihedralBending<Scalar>::DihedralBending(int node_count, std::vector<Hinge> hinges,
-                                         std::vector<HingeConstants> constants)
-    : m_node_count(node_count), m_hinges(std::move(hinges)), m_constants(std::move(constants)) {
+                                         std::vector<HingeConstants> constants, std::string term_name)
+    : m_node_count(node_count),
+      m_name(std::move(term_name)),
+      m_hinges(std::move(hinges)),
+      m_constants(std::move(constants)) {
   detail::require_at_least("node count", node_count, 1);
   if (m_constants.size() != m_hinges.size())
     detail::fail_argument("hinge constants", detail::to_text(m_constants.size()) + " entries",
