@@ -21,7 +21,7 @@ def test_the_shirt_pattern_becomes_a_cloth_with_seams_and_delayed_gravity():
     pairs = spec.self_collision.joined_nodes
     assert len(pairs) > 50
     cloth = drape.Cloth(spec)
-    assert set(cloth.force_terms) == {"seams", "dihedral bending", "ramped gravity"}
+    assert set(cloth.force_terms) == {"seams", "dihedral bending", "seam hinges", "ramped gravity"}
     triangles = cloth.triangles
     assert triangles.shape[1] == 3 and triangles.min() == 0 and triangles.max() == cloth.node_count - 1
 
