@@ -1046,6 +1046,21 @@ void check_example_frames(const char* name, const std::string& flags, double sea
   INFO("widest seam gap in the last frame " << widest << ", " << closed << " of " << sewn.size() << " within 2 mm");
   CHECK(widest <= seam_gap);
   CHECK(closed >= 0.9 * double(sewn.size()));
+  if (!sewn.empty()) {
+    // drape-render's own report of the seams at the end (the last frame's state) agrees.
+    const std::size_t at = r.output.find("seams: ");
+    REQUIRE(at != std::string::npos);
+    std::size_t reported_closed = 0, reported_pairs = 0;
+    double within = 0, reported_widest = 0;
+    REQUIRE(std::sscanf(r.output.c_str() + at, "seams: %zu of %zu sewn pairs within %lf m, the widest %lf m apart",
+                        &reported_closed, &reported_pairs, &within, &reported_widest) == 4);
+    CHECK(reported_pairs == sewn.size());
+    CHECK(within == Approx(cloth.contact_thickness()).epsilon(1e-3));
+    std::size_t closed_within = 0;
+    for (const auto& [a, b] : sewn) closed_within += (x.col(a) - x.col(b)).norm() <= within ? 1 : 0;
+    CHECK(reported_closed == closed_within);
+    CHECK(reported_widest == Approx(widest).epsilon(1e-3).margin(1e-6));
+  }
   if (!cloth.colliders().empty()) {
     INFO("deepest " << deepest);
     CHECK(deepest >= cloth.contact_thickness() - cloth.contact_tolerance() - 1e-9);

@@ -28,6 +28,7 @@
 #include "drape/physics/diagnostics.hpp"
 #include "drape/physics/drape_measures.hpp"
 #include "drape/physics/force_assembler.hpp"
+#include "drape/physics/seam_springs.hpp"
 #include "drape/realtime/realtime_driver.hpp"
 #include "drape/scene/cloth_scene.hpp"
 #include "drape/scene_file/build_scene.hpp"
@@ -571,6 +572,22 @@ std::string force_term_names(const drape::Clothd& cloth) {
   return names;
 }
 
+/// A garment's seams at the end of a run: how many sewn pairs lie within the contact thickness of
+/// each other (closed) and the widest gap, printed to stdout as "seams: ...". Nothing for a cloth
+/// without seams.
+void report_seams(const drape::Clothd& cloth, const drape::Stated& state) {
+  for (const auto& term : cloth.force_terms()) {
+    const auto* seams = dynamic_cast<const drape::SeamSprings<double>*>(term.get());
+    if (seams == nullptr) continue;
+    const double closed_within = cloth.contact_thickness();
+    std::size_t closed = 0;
+    for (const auto& [a, b] : seams->pairs())
+      closed += (state.positions.col(a) - state.positions.col(b)).norm() <= closed_within ? 1 : 0;
+    std::printf("seams: %zu of %zu sewn pairs within %.4g m, the widest %.4g m apart (t = %.4g s)\n", closed,
+                seams->pairs().size(), closed_within, seams->widest_gap(state.positions), state.time);
+  }
+}
+
 int run(const Settings& s) {
   // Inputs and outputs are checked before any simulation or rendering.
   drape::scene_file::PreparedScene scene = drape::scene_file::prepare_scene(s);
@@ -593,6 +610,7 @@ int run(const Settings& s) {
     std::printf("drape coefficient %.4f, %d folds (support disk radius %.4g m, specimen radius %.4g m, t = %.4g s)\n",
                 m.drape_coefficient, m.fold_count, s.output.cusick_disk, specimen, run.state().time);
   }
+  report_seams(cloth, run.state());
   const double wall = run.wall_seconds();
   if (!s.output.video.empty() && !make_video(s, run.frames_written()))
     stop(exit_runtime_error,
