@@ -17,8 +17,9 @@
 ///    blocks of `block_nodes` nodes, in a fixed order: results are bitwise identical for any
 ///    thread count.
 /// A cloth that is not a grid (an irregular mesh) has as many spring offsets as springs, so phases 1
-/// and 2 take the general form there: every spring's force into a per-spring array, then every
-/// node sums its incident springs' forces from a list made once (ascending spring order). The
+/// and 2 take the general form there: every spring's force into a per-spring array (its nodes'
+/// values gathered, the arithmetic vectorised as a grid's), then every node sums its incident
+/// springs' forces from a list made once (ascending spring order). The
 /// phases and their barriers are the same, so the integrators do not tell the two apart.
 /// Force terms are evaluated before phase 2 by `evaluate_terms` (those that share work on the
 /// team, the others on one thread; nothing to do without terms). The phases are public so that an
@@ -390,16 +391,41 @@ void ForceAssembler<Scalar>::spring_pass_general(const NodeView<Scalar>& x, cons
   const Scalar* rest = springs.rest_length().data();
   const Scalar* ks = springs.stiffness().data();
   const Scalar* kd = springs.damping().data();
-  Scalar* f[3] = {m_spring_forces.data(), m_spring_forces.data() + count, m_spring_forces.data() + 2 * count};
+  Scalar* const f[3] = {m_spring_forces.data(), m_spring_forces.data() + count, m_spring_forces.data() + 2 * count};
   const auto share = even_share(count, team_rank(), team_size());
-  for (Index s = share.first; s < share.second; ++s) {
-    const Index i = a[s], j = b[s];
-    const Scalar d0 = x.p[0][j] - x.p[0][i], d1 = x.p[1][j] - x.p[1][i], d2 = x.p[2][j] - x.p[2][i];
-    const Scalar w_dot_d = (v.p[0][j] - v.p[0][i]) * d0 + (v.p[1][j] - v.p[1][i]) * d1 + (v.p[2][j] - v.p[2][i]) * d2;
-    const Scalar c = spring_force_factor(std::sqrt(d0 * d0 + d1 * d1 + d2 * d2), w_dot_d, rest[s], ks[s], kd[s]);
-    f[0][s] = c * d0;
-    f[1][s] = c * d1;
-    f[2][s] = c * d2;
+#if DRAPE_AVX2_DISPATCH
+  if (instruction_set() == InstructionSet::Avx2) {
+    detail::spring_list_avx2(x, v, a, b, rest, ks, kd, share.first, share.second, f);
+    return;
+  }
+#endif
+  // Chunks of three loops as spring_pass_loops: gather the differences, the square roots several
+  // at a time, then the factors and forces (vectorised).
+  constexpr int chunk = SpringFamilies<Scalar>::max_run_length;
+  alignas(64) Scalar d[3][chunk];
+  alignas(64) Scalar length[chunk];
+  alignas(64) Scalar w_dot_d[chunk];
+  for (Index first = share.first; first < share.second; first += chunk) {
+    const int n = int(std::min<Index>(chunk, share.second - first));
+    for (int j = 0; j < n; ++j) {
+      const Index p = a[first + j], q = b[first + j];
+      const Scalar d0 = x.p[0][q] - x.p[0][p], d1 = x.p[1][q] - x.p[1][p], d2 = x.p[2][q] - x.p[2][p];
+      d[0][j] = d0;
+      d[1][j] = d1;
+      d[2][j] = d2;
+      length[j] = d0 * d0 + d1 * d1 + d2 * d2;
+      w_dot_d[j] = (v.p[0][q] - v.p[0][p]) * d0 + (v.p[1][q] - v.p[1][p]) * d1 + (v.p[2][q] - v.p[2][p]) * d2;
+    }
+    detail::sqrt_in_place(length, n);
+    Scalar *f0 = f[0] + first, *f1 = f[1] + first, *f2 = f[2] + first;
+    const Scalar *l = rest + first, *k = ks + first, *c = kd + first;
+    DRAPE_OMP_SIMD
+    for (int j = 0; j < n; ++j) {
+      const Scalar factor = spring_force_factor(length[j], w_dot_d[j], l[j], k[j], c[j]);
+      f0[j] = factor * d[0][j];
+      f1[j] = factor * d[1][j];
+      f2[j] = factor * d[2][j];
+    }
   }
 }
 
