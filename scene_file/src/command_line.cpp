@@ -408,7 +408,7 @@ std::string key_in_table(const std::string& key) {
       "scene file '" + file + "': unknown key '" + key + "'" + hint +
       "; the keys are the flag names of --help without '--', the air's in the tables [air] and "
       "[air.gusts], the colliders' in tables [[colliders]], the moving pins' in tables [[moving-pins]], more "
-      "cloths in tables [[cloths]]");
+      "cloths in tables [[cloths]], a pattern's panels' offsets in the table [panel-offsets]");
 }
 
 /// Applies the keys of a scene-file table (`prefix` "" for the top level, "air." for [air], ...)
@@ -427,6 +427,10 @@ void apply_table(const toml::table& table, const std::string& prefix, std::map<s
     }
     if (key == "cloths") {  // [[cloths]]: no flag
       read_cloths(node, s);
+      continue;
+    }
+    if (key == "panel-offsets") {  // [panel-offsets]: no flag
+      read_panel_offsets(node, s);
       continue;
     }
     if (is_table_key(key)) {

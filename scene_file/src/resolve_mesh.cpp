@@ -99,9 +99,25 @@ void apply_pattern(const MeshSource& m, drape::ClothSpecd& spec, const KeyName& 
     const auto it = key_of.find(e.parameter());
     fail(key(it != key_of.end() ? it->second : e.parameter()), e.value(), e.allowed());
   }
+  drape::SewingPattern pattern;
+  try {
+    pattern = drape::pattern_io::read_sewing_pattern(m.pattern);
+  } catch (const std::exception& e) {
+    throw SettingsError(key("pattern") + " '" + m.pattern + "': " + e.what());
+  }
+  for (const auto& [name, offset] : m.panel_offsets) {
+    const auto panel = std::find_if(pattern.panels.begin(), pattern.panels.end(),
+                                    [&name = name](const drape::PatternPanel& p) { return p.name == name; });
+    if (panel == pattern.panels.end()) {
+      std::string names;
+      for (const drape::PatternPanel& p : pattern.panels) names += (names.empty() ? "" : ", ") + p.name;
+      fail("[panel-offsets] " + name, "'" + name + "'", "a panel of '" + m.pattern + "': " + names);
+    }
+    panel->translation += Eigen::Vector3d(offset[0], offset[1], offset[2]);
+  }
   drape::Garment garment;
   try {
-    garment = drape::dress_garment(drape::pattern_io::read_sewing_pattern(m.pattern), fabric, sewing);
+    garment = drape::dress_garment(pattern, fabric, sewing);
   } catch (const std::exception& e) {
     throw SettingsError(key("pattern") + " '" + m.pattern + "': " + e.what());
   }
@@ -143,6 +159,9 @@ void apply_mesh_source(const MeshSource& m, drape::ClothSpecd& spec, const KeyNa
   if (!m.pattern.empty()) {
     apply_pattern(m, spec, key);
   } else {
+    if (!m.panel_offsets.empty())
+      fail("[panel-offsets] " + m.panel_offsets.front().first, "an offset without --pattern",
+           "the table only with a pattern, naming its panels");
     if (m.density > 0) spec.areal_density = m.density;
     if (m.is_mesh()) spec.mesh = m.file.empty() ? generated_mesh(m, key) : read_mesh_file(m, key);
   }

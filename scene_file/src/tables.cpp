@@ -420,4 +420,16 @@ void read_cloths(const toml::node& node, Settings& s) {
                  });
 }
 
+void read_panel_offsets(const toml::node& node, Settings& s) {
+  const toml::table* table = node.as_table();
+  if (!table) bad_key(s.scene, "panel-offsets", "must be a table ([panel-offsets] with NAME = [x, y, z])");
+  for (const auto& [name, value] : *table) {
+    const std::string key = "panel-offsets." + std::string(name.str());
+    const std::array<double, 3> offset = from_toml<std::array<double, 3>>(value, key, s.scene);
+    for (double c : offset)
+      if (!std::isfinite(c)) bad_key(s.scene, key, "must be three finite numbers (m)");
+    s.mesh.panel_offsets.emplace_back(std::string(name.str()), offset);
+  }
+}
+
 }  // namespace drape::scene_file::detail

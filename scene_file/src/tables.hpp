@@ -20,4 +20,7 @@ void read_moving_pins(const toml::node& node, Settings& s);
 /// are built from the first one (cloth_specs(), from validate()).
 void read_cloths(const toml::node& node, Settings& s);
 
+/// The scene file's table [panel-offsets] (`NAME = [x, y, z]`, m), into s.mesh.panel_offsets.
+void read_panel_offsets(const toml::node& node, Settings& s);
+
 }  // namespace drape::scene_file::detail

@@ -543,6 +543,47 @@ TEST_CASE("pattern keys: a garment sewn from a sewing pattern in a fabric; bad v
   CHECK_THAT(error_of(dir, "pattern = \"bad.json\"\n"), Contains("pattern") && Contains("bad.json"));
   fs::remove_all(dir);
 }
+
+TEST_CASE("[panel-offsets]: a panel's placement moved by its offset, the others where they were; bad tables named",
+          "[scene_file][mesh][garment]") {
+  const fs::path dir = fresh_dir("panel_offsets");
+  using Catch::Contains;
+  const std::string shirt = std::string(DRAPE_SOURCE_DIR) + "/scenes/garments/shirt_mean.json";
+  const std::string garment = "pattern = \"" + shirt + "\"\nedge-length = 0.03\n";
+  const Settings plain = read_text(dir, garment);
+  const Settings moved = read_text(dir, garment + "[panel-offsets]\nleft_sleeve_f = [0.06, -0.02, 0.01]\n");
+  REQUIRE(plain.cloth.mesh);
+  REQUIRE(moved.cloth.mesh);
+  const drape::Matrix3X<double>& x0 = plain.cloth.mesh->positions;
+  const drape::Matrix3X<double>& x1 = moved.cloth.mesh->positions;
+  REQUIRE(x0.cols() == x1.cols());
+  const std::vector<int>& sleeve = plain.cloth.mesh->groups.at("panel left_sleeve_f");
+  std::vector<char> in_sleeve(std::size_t(x0.cols()), 0);
+  for (int i : sleeve) in_sleeve[std::size_t(i)] = 1;
+  double off_offset = 0, others_moved = 0;
+  for (drape::Index i = 0; i < x0.cols(); ++i) {
+    const drape::Vec3<double> d = x1.col(i) - x0.col(i);
+    if (in_sleeve[std::size_t(i)])
+      off_offset = std::max(off_offset, (d - drape::Vec3<double>(0.06, -0.02, 0.01)).norm());
+    else
+      others_moved = std::max(others_moved, d.norm());
+  }
+  CHECK(sleeve.size() > 20);
+  CHECK(off_offset < 1e-12);
+  CHECK(others_moved == 0);
+  CHECK(moved.cloth.mesh->rest_uv == plain.cloth.mesh->rest_uv);  // the panel's shape is its pattern's
+
+  CHECK_THAT(error_of(dir, garment + "[panel-offsets]\nleft_sleeve = [0.06, 0.0, 0.0]\n"),
+             Contains("[panel-offsets] left_sleeve") && Contains("left_sleeve_f") && Contains("right_btorso"));
+  CHECK_THAT(error_of(dir, garment + "[panel-offsets]\nleft_sleeve_f = [0.06, 0.0]\n"),
+             Contains("panel-offsets.left_sleeve_f"));
+  CHECK_THAT(error_of(dir, garment + "[panel-offsets]\nleft_sleeve_f = [0.06, nan, 0.0]\n"),
+             Contains("panel-offsets.left_sleeve_f") && Contains("finite"));
+  CHECK_THAT(error_of(dir, garment + "panel-offsets = 3\n"), Contains("panel-offsets") && Contains("table"));
+  CHECK_THAT(error_of(dir, "shape = \"disk\"\n[panel-offsets]\nfront = [0.0, 0.0, 0.1]\n"),
+             Contains("[panel-offsets] front") && Contains("without --pattern"));
+  fs::remove_all(dir);
+}
 #endif
 
 TEST_CASE("[[cloths]] with mesh keys: a disk and an OBJ cloth beside the grid, errors named by table and key",

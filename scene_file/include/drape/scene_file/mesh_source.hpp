@@ -8,6 +8,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace drape::scene_file {
@@ -40,6 +41,9 @@ struct MeshSource {
   std::string fabric = "cotton";   ///< --fabric: a preset of drape/garment/fabric.hpp (with --pattern)
   double seam_stiffness = 500;     ///< --seam-stiffness: N/m per sewn pair (with --pattern)
   double seam_closing_time = 1.0;  ///< --seam-closing-time: s (with --pattern)
+  /// Scene file table [panel-offsets], `NAME = [x, y, z]` (m): moved placements of the pattern's
+  /// panels, each added to panel NAME's translation before the garment is sewn (with --pattern).
+  std::vector<std::pair<std::string, std::array<double, 3>>> panel_offsets;
 
   /// True when the cloth is not the plain grid of nx, ny and spacing.
   bool is_mesh() const { return !file.empty() || !pattern.empty() || shape != "grid"; }
