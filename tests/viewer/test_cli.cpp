@@ -997,8 +997,8 @@ namespace {
 /// frame do two of the cloth's triangles that share no vertex intersect (the exact test of
 /// mesh_checks.hpp over all pairs; a garment's sewn vertices count as one), and no vertex lies
 /// deeper in a collider than the contact tolerance lets it. A garment's seams (its joined nodes) in
-/// the last frame: nine pairs in ten closed to 2 mm, every pair within `seam_gap` m (where four
-/// panels meet under an arm, a fold of the sleeve keeps a few pairs apart: docs/garments.md).
+/// the last frame: 95% of the pairs closed to 2 mm, every pair within `seam_gap` m (where four
+/// panels meet under an arm, the layers keep a few pairs a little apart: docs/garments.md).
 void check_example_frames(const char* name, const std::string& flags, double seam_gap = 0) {
   INFO(name << " " << flags);
   const fs::path scene = scenes_dir / (std::string(name) + ".toml");
@@ -1045,7 +1045,7 @@ void check_example_frames(const char* name, const std::string& flags, double sea
   }
   INFO("widest seam gap in the last frame " << widest << ", " << closed << " of " << sewn.size() << " within 2 mm");
   CHECK(widest <= seam_gap);
-  CHECK(closed >= 0.9 * double(sewn.size()));
+  CHECK(closed >= 0.95 * double(sewn.size()));
   if (!sewn.empty()) {
     // drape-render's own report of the seams at the end (the last frame's state) agrees.
     const std::size_t at = r.output.find("seams: ");
@@ -1096,14 +1096,14 @@ TEST_CASE("scenes/shawl_arms.toml: no intersection, nothing inside the body mesh
 
 TEST_CASE("scenes/shirt.toml: no intersection, nothing inside the body, the seams closed",
           "[cli][.examples][shirt][garment]") {
-  check_example_frames("shirt", "", 0.02);
+  check_example_frames("shirt", "", 0.01);
 }
 
 TEST_CASE("scenes/shirt_arms.toml: no intersection, nothing inside the body while its arms move, the seams closed",
           "[cli][.examples][shirt_arms][garment]") {
-  // The arms move from 1.5 to 2.5 s. Under each arm, where four panels meet, a fold of the sleeve
-  // holds a few pairs 1-2 cm open (docs/garments.md, "Limits"): every pair within 2.5 cm.
-  check_example_frames("shirt_arms", "", 0.025);
+  // The arms move from 1.5 to 2.5 s; the seams stay closed (docs/garments.md, "Limits": under each
+  // arm the layers keep a few pairs a few millimetres apart).
+  check_example_frames("shirt_arms", "", 0.01);
 }
 
 TEST_CASE("scenes/skirt.toml: no intersection, nothing inside the body, the seams closed",
