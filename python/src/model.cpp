@@ -4,6 +4,7 @@
 
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/map.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
@@ -13,7 +14,9 @@
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
+#include <array>
 #include <limits>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -535,20 +538,23 @@ void bind_spec_and_cloth(nb::module_& m) {
   m.def(
       "load_pattern",
       [](const std::string& path, double edge_length, const std::string& fabric, double seam_stiffness,
-         double seam_closing_time, double gravity) {
+         double seam_closing_time, double gravity, const std::map<std::string, std::array<double, 3>>& panel_offsets) {
 #if DRAPE_PYTHON_HAS_PATTERN_IO
         drape::SewingSettings sewing;
         sewing.edge_length = edge_length;
         sewing.seam_stiffness = seam_stiffness;
         sewing.seam_closing_time = seam_closing_time;
         sewing.gravity = gravity;
-        const drape::Garment garment = drape::dress_garment(drape::pattern_io::read_sewing_pattern(path),
-                                                            drape::fabric_preset(fabric), sewing);
+        drape::SewingPattern pattern = drape::pattern_io::read_sewing_pattern(path);
+        for (const auto& [name, offset] : panel_offsets)
+          drape::move_panel(pattern, name, Eigen::Vector3d(offset[0], offset[1], offset[2]));
+        const drape::Garment garment = drape::dress_garment(pattern, drape::fabric_preset(fabric), sewing);
         ClothSpecWithAir spec;
         static_cast<drape::ClothSpecd&>(spec) = garment.spec;
         return spec;
 #else
-        (void)edge_length, (void)fabric, (void)seam_stiffness, (void)seam_closing_time, (void)gravity;
+        (void)edge_length, (void)fabric, (void)seam_stiffness, (void)seam_closing_time, (void)gravity,
+            (void)panel_offsets;
         throw std::runtime_error("drape: load_pattern('" + path +
                                  "'): this module was built without the sewing-pattern reader (apt-get install "
                                  "nlohmann-json3-dev and rebuild)");
@@ -556,11 +562,13 @@ void bind_spec_and_cloth(nb::module_& m) {
       },
       "path"_a, "edge_length"_a = 0.015, "fabric"_a = "cotton", "seam_stiffness"_a = 500.0,
       "seam_closing_time"_a = 1.0, "gravity"_a = 9.81,
+      "panel_offsets"_a = std::map<std::string, std::array<double, 3>>{},
       "The garment of a GarmentCode JSON sewing pattern as a ClothSpec (docs/garments.md): every panel meshed at "
       "edge_length (m) and placed by its transform, the fabric's springs, density and bending ('cotton', 'denim', "
       "'silk', 'jersey'), seam springs (N/m per sewn pair) whose rest lengths reach zero at seam_closing_time (s), "
       "gravity (m/s^2) coming on after that (spec.gravity is 0: a force term carries it), self-collision on with "
-      "the sewn vertices joined (spec.self_collision.joined_nodes). Add the body to spec.colliders. Raises "
+      "the sewn vertices joined (spec.self_collision.joined_nodes); panel_offsets ({name: (x, y, z)}, m) moves "
+      "panels from the pattern's placement. Add the body to spec.colliders. Raises "
       "PatternError (a ValueError) naming the file and the JSON path of a bad pattern, InvalidParameter naming "
       "the setting.");
 }

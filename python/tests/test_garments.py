@@ -48,3 +48,17 @@ def test_bad_patterns_and_settings_are_named(tmp_path):
         drape.load_pattern(str(SHIRT), fabric="tweed")
     with pytest.raises(drape.InvalidParameter, match="seam stiffness"):
         drape.load_pattern(str(SHIRT), seam_stiffness=-1.0)
+
+
+def test_panel_offsets_move_one_panel_from_the_patterns_placement():
+    plain = drape.Cloth(drape.load_pattern(str(SHIRT), edge_length=0.03))
+    moved = drape.Cloth(drape.load_pattern(str(SHIRT), edge_length=0.03, panel_offsets={"left_sleeve_f": (0.06, -0.02, 0.01)}))
+    shift = np.array(moved.start_positions) - np.array(plain.start_positions)
+    on_panel = np.linalg.norm(shift - np.array([0.06, -0.02, 0.01]), axis=1) < 1e-12
+    still = np.linalg.norm(shift, axis=1) == 0
+    assert on_panel.sum() > 20  # the sleeve's vertices, moved by the offset
+    assert np.all(on_panel | still)  # every other vertex where the pattern places it
+    with pytest.raises(drape.InvalidParameter, match="panel offsets.*left_sleeve'.*left_sleeve_f"):
+        drape.load_pattern(str(SHIRT), panel_offsets={"left_sleeve": (0.06, 0.0, 0.0)})
+    with pytest.raises(drape.InvalidParameter, match="panel offsets"):
+        drape.load_pattern(str(SHIRT), panel_offsets={"left_sleeve_f": (float("nan"), 0.0, 0.0)})

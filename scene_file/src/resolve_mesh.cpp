@@ -106,14 +106,11 @@ void apply_pattern(const MeshSource& m, drape::ClothSpecd& spec, const KeyName& 
     throw SettingsError(key("pattern") + " '" + m.pattern + "': " + e.what());
   }
   for (const auto& [name, offset] : m.panel_offsets) {
-    const auto panel = std::find_if(pattern.panels.begin(), pattern.panels.end(),
-                                    [&name = name](const drape::PatternPanel& p) { return p.name == name; });
-    if (panel == pattern.panels.end()) {
-      std::string names;
-      for (const drape::PatternPanel& p : pattern.panels) names += (names.empty() ? "" : ", ") + p.name;
-      fail("[panel-offsets] " + name, "'" + name + "'", "a panel of '" + m.pattern + "': " + names);
+    try {
+      drape::move_panel(pattern, name, Eigen::Vector3d(offset[0], offset[1], offset[2]));
+    } catch (const InvalidParameter& e) {
+      fail("[panel-offsets] " + name, e.value(), e.allowed() + " ('" + m.pattern + "')");
     }
-    panel->translation += Eigen::Vector3d(offset[0], offset[1], offset[2]);
   }
   drape::Garment garment;
   try {

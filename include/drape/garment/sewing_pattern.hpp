@@ -125,6 +125,23 @@ inline Eigen::Matrix3d rotation_from_euler_degrees(const Eigen::Vector3d& degree
   return placement.rotation();
 }
 
+/// Moves panel `name` by `offset` (m, added to its translation): a placement other than the
+/// pattern's, e.g. a sleeve started outside the torso's panels (docs/garments.md).
+/// \throws InvalidParameter (`panel offsets`) naming the panel and the pattern's panels if it has
+///   none of that name, or the offset if it is not finite.
+inline void move_panel(SewingPattern& pattern, const std::string& name, const Eigen::Vector3d& offset) {
+  const auto panel = std::find_if(pattern.panels.begin(), pattern.panels.end(),
+                                  [&name](const PatternPanel& p) { return p.name == name; });
+  if (panel == pattern.panels.end()) {
+    std::string names;
+    for (const PatternPanel& p : pattern.panels) names += (names.empty() ? "" : ", ") + p.name;
+    throw InvalidParameter("panel offsets", "'" + name + "'", "a panel of the pattern: " + names);
+  }
+  if (!offset.allFinite())
+    throw InvalidParameter("panel offsets", "a non-finite offset of '" + name + "'", "finite offsets (m)");
+  panel->translation += offset;
+}
+
 /// A point of the panel plane in the body's frame: rotation * (x, y, 0) + translation.
 inline Eigen::Vector3d panel_to_world(const PatternPanel& panel, const Eigen::Vector2d& point) {
   return panel.rotation * Eigen::Vector3d(point.x(), point.y(), 0) + panel.translation;
