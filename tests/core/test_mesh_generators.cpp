@@ -173,6 +173,64 @@ TEST_CASE("disk_mesh: every angle above 43 degrees, edges within 5% of the targe
   }
 }
 
+TEMPLATE_TEST_CASE("disk_mesh with a ring: its vertices on their circle, its sides edges, each zone's rings evenly spaced",
+                   "[mesh][disk]", float, double) {
+  using S = TestType;
+  const double radius = 0.15, h = 0.01, ring_radius = 0.09;
+  const int inner = disk_rings(ring_radius, h), rings = inner + disk_rings(radius - ring_radius, h);  // 10 + 7
+  const drape::ClothMesh<S> mesh = drape::disk_mesh(S(radius), S(h), S(ring_radius));
+  REQUIRE(mesh.validate().empty());
+  REQUIRE(mesh.vertex_count() == 3 * rings * (rings + 1) + 1);
+  const MeshFacts<S> f = facts(mesh);
+  REQUIRE(f.faces_up);
+  REQUIRE(boundary_edges(f) == loop_edges(mesh.groups.at("boundary")));
+  REQUIRE(std::abs(f.area - inscribed_polygon_area(6 * rings, radius)) <= 2e-6 * f.area);
+
+  // Group "ring": ring `inner`, exactly on its circle in order of angle, and each side an edge.
+  REQUIRE(mesh.groups.size() == 2);
+  const std::vector<int>& ring = mesh.groups.at("ring");
+  REQUIRE(ring.size() == static_cast<std::size_t>(6 * inner));
+  const double eps = std::numeric_limits<S>::epsilon();
+  for (std::size_t j = 0; j < ring.size(); ++j) {
+    REQUIRE(ring[j] == 1 + 3 * inner * (inner - 1) + static_cast<int>(j));
+    const Eigen::Vector3d p = mesh.positions.col(ring[j]).template cast<double>();
+    const double angle = 2 * pi * static_cast<double>(j) / static_cast<double>(ring.size());
+    REQUIRE(std::abs(p.x() - ring_radius * std::cos(angle)) <= 4 * eps * ring_radius);
+    REQUIRE(std::abs(p.z() - ring_radius * std::sin(angle)) <= 4 * eps * ring_radius);
+  }
+  for (const auto& side : loop_edges(ring)) REQUIRE(f.edge_uses.count(side) == 1);
+
+  // The other rings stay near their zone's even spacing after smoothing.
+  for (int k = 1; k < rings; ++k) {
+    const double spacing = k <= inner ? ring_radius / inner : (radius - ring_radius) / (rings - inner);
+    const double at = k <= inner ? ring_radius * k / inner : ring_radius + spacing * (k - inner);
+    for (int v = 1 + 3 * k * (k - 1); v <= 3 * k * (k + 1); ++v)
+      REQUIRE(std::abs(double(mesh.positions.col(v).norm()) - at) < 0.25 * spacing);
+  }
+
+  // Without the ring, no ring of this edge length lies on the circle: the nearest is 2 mm off.
+  const drape::ClothMesh<S> plain = drape::disk_mesh(S(radius), S(h));
+  double nearest = 1;
+  for (drape::Index v = 0; v < plain.positions.cols(); ++v)
+    nearest = std::min(nearest, std::abs(double(plain.positions.col(v).norm()) - ring_radius));
+  REQUIRE(nearest > 1e-3);
+}
+
+TEST_CASE("disk_mesh with a ring: every angle above 40 degrees, edges within 7% of the target on average",
+          "[mesh][disk]") {
+  for (double h : {0.1, 0.05, 0.02, 0.01})
+    for (double fraction : {0.05, 0.3, 0.5, 0.6, 0.77, 0.95}) {
+      const double ring_radius = std::clamp(fraction, h, 1 - h);
+      const drape::ClothMesh<double> mesh = drape::disk_mesh(1.0, h, ring_radius);
+      const MeshFacts<double> f = facts(mesh);
+      INFO("edge_length " << h << ", ring at " << ring_radius << ": smallest angle " << f.min_angle_degrees
+                          << ", mean edge " << f.mean_edge);
+      REQUIRE(mesh.validate().empty());
+      REQUIRE(f.min_angle_degrees > 40.0);
+      REQUIRE(std::abs(f.mean_edge / h - 1) < 0.07);
+    }
+}
+
 TEMPLATE_TEST_CASE("rectangle_with_hole_mesh: straight sides, kept corners, the hole on its circle, groups",
                    "[mesh][rectangle]", float, double) {
   using S = TestType;
@@ -312,6 +370,12 @@ TEMPLATE_TEST_CASE("the generators reject bad arguments by name", "[mesh][valida
   REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(1.5)), Contains("'edge_length'") && Contains("<= radius"));
   REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(1e-4)), Contains("'radius / edge_length'"));
   REQUIRE_NOTHROW(drape::disk_mesh(S(1), S(1)));
+  REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(0.1), -S(0.5)), Contains("'ring_radius'") && Contains("0 (no ring)"));
+  REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(0.1), nan), Contains("'ring_radius'"));
+  REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(0.1), S(0.09)), Contains("'ring_radius'") && Contains("radius - edge_length"));
+  REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(0.1), S(0.91)), Contains("'ring_radius'"));
+  REQUIRE_NOTHROW(drape::disk_mesh(S(1), S(0.1), S(0.1)));
+  REQUIRE_NOTHROW(drape::disk_mesh(S(1), S(0.1), S(0.9)));
 
   using V2 = Eigen::Matrix<S, 2, 1>;
   const V2 centre(S(1), S(0.5));

@@ -51,10 +51,19 @@ constexpr long long max_generated_vertices = 16'000'000;
 /// by pi^2 / (54 K^2) of it to leading order (second order in edge_length). Every angle is above
 /// 43 degrees (60 for K = 1). Group "boundary": ring K.
 ///
+/// With `ring_radius` > 0 one ring lies exactly on the circle of that radius as well (a support's
+/// edge, a clamp, where the cloth must be able to bend): the K_i = round(1.12 ring_radius /
+/// edge_length) rings inside it and the K - K_i = round(1.12 (radius - ring_radius) /
+/// edge_length) outside are each evenly spaced, ring K_i and its sides stay as they are while
+/// smoothing, and group "ring" is its 6 K_i vertices in order of angle. Without it a ring of vertices falls on
+/// such a circle only by chance, and the cloth bends over it at the nearest ring instead: up to
+/// half an edge away, differently at each edge length.
+///
 /// \throws InvalidParameter unless radius and edge_length are finite and > 0 and edge_length <=
-/// radius (one ring at least), with at most max_generated_vertices vertices.
+/// radius (one ring at least), ring_radius is 0 or in [edge_length, radius - edge_length],
+/// with at most max_generated_vertices vertices.
 template <class Scalar = double>
-ClothMesh<Scalar> disk_mesh(Scalar radius, Scalar edge_length);
+ClothMesh<Scalar> disk_mesh(Scalar radius, Scalar edge_length, Scalar ring_radius = 0);
 
 /// The rectangle [0, width] x [0, height] of the x-z plane (like the grid, from the origin along +x
 /// and +z) with a circular hole of `hole_radius` centred at `hole_centre` = (x, z), of
@@ -99,11 +108,20 @@ inline int disk_ring_count(double radius, double edge_length) {
   return std::max(1, static_cast<int>(std::lround(disk_edge_per_ring_spacing * radius / edge_length)));
 }
 
-inline PlanarMesh disk_in_plane(double radius, int rings) {
+/// The disk's K = `rings` rings, evenly spaced; with `inner_rings` > 0, ring `inner_rings` at
+/// `ring_radius` and the rings inside and outside it each evenly spaced.
+inline PlanarMesh disk_in_plane(double radius, int rings, int inner_rings = 0, double ring_radius = 0) {
+  const auto ring_at = [&](int k) {
+    if (k == rings) return radius;
+    if (inner_rings == 0) return radius * k / rings;
+    if (k == inner_rings) return ring_radius;
+    if (k < inner_rings) return ring_radius * k / inner_rings;
+    return ring_radius + (radius - ring_radius) * (k - inner_rings) / (rings - inner_rings);
+  };
   PlanarMesh mesh;
   mesh.points.push_back(Point2::Zero());
   for (int k = 1; k <= rings; ++k) {
-    const double r = k == rings ? radius : radius * k / rings;
+    const double r = ring_at(k);
     for (int j = 0; j < 6 * k; ++j) {
       const double angle = full_turn * j / (6 * k);
       mesh.points.emplace_back(r * std::cos(angle), r * std::sin(angle));
@@ -128,11 +146,22 @@ inline PlanarMesh disk_in_plane(double radius, int rings) {
   }
   std::vector<int>& boundary = mesh.groups["boundary"];
   for (int j = 0; j < 6 * rings; ++j) boundary.push_back(first_of_ring(rings) + j);
+  if (inner_rings > 0) {
+    std::vector<int>& ring = mesh.groups["ring"];
+    for (int j = 0; j < 6 * inner_rings; ++j) ring.push_back(first_of_ring(inner_rings) + j);
+  }
 
   PlanarTriangulation smoothing(mesh.points);
   smoothing.adopt(mesh.triangles);
+  if (inner_rings > 0) {  // the ring's sides stay edges: the cloth bends along them
+    const std::vector<int>& ring = mesh.groups.at("ring");
+    std::vector<std::array<int, 2>> sides;
+    for (std::size_t j = 0; j < ring.size(); ++j) sides.push_back({ring[j], ring[(j + 1) % ring.size()]});
+    smoothing.constrain(sides);
+  }
   std::vector<VertexFreedom> freedom(mesh.points.size(), VertexFreedom::Free);
-  for (int v : boundary) freedom[static_cast<std::size_t>(v)] = VertexFreedom::Fixed;
+  for (const auto& [name, group] : mesh.groups)
+    for (int v : group) freedom[static_cast<std::size_t>(v)] = VertexFreedom::Fixed;
   freedom[0] = VertexFreedom::Fixed;  // the centre, where symmetry holds it anyway
   smoothing.smooth(freedom, generator_smoothing_passes);
   mesh.points = std::move(smoothing.points);
@@ -309,19 +338,25 @@ ClothMesh<Scalar> to_cloth_mesh(PlanarMesh plane) {
 }  // namespace detail
 
 template <class Scalar>
-ClothMesh<Scalar> disk_mesh(Scalar radius, Scalar edge_length) {
+ClothMesh<Scalar> disk_mesh(Scalar radius, Scalar edge_length, Scalar ring_radius) {
   detail::require_positive_finite("radius", radius);
   detail::require_positive_finite("edge_length", edge_length);
   if (!(edge_length <= radius))
     detail::fail_argument("edge_length", detail::to_text(edge_length),
                           "<= radius (" + detail::to_text(radius) + "): one ring of triangles at least");
-  const int rings = detail::disk_ring_count(double(radius), double(edge_length));
+  const double r = double(radius), h = double(edge_length), ring = double(ring_radius);
+  if (!(ring == 0 || (ring >= h && ring <= r - h)))
+    detail::fail_argument("ring_radius", detail::to_text(ring_radius),
+                          "0 (no ring) or in [edge_length, radius - edge_length] = [" + detail::to_text(h) + ", " +
+                              detail::to_text(r - h) + "]: a ring of triangles at least on either side");
+  const int inner_rings = ring == 0 ? 0 : detail::disk_ring_count(ring, h);
+  const int rings = ring == 0 ? detail::disk_ring_count(r, h) : inner_rings + detail::disk_ring_count(r - ring, h);
   const long long vertices = 3LL * rings * (rings + 1) + 1;
   if (vertices > max_generated_vertices)
-    detail::fail_argument("radius / edge_length", detail::to_text(double(radius) / double(edge_length)),
+    detail::fail_argument("radius / edge_length", detail::to_text(r / h),
                           "a disk of at most " + detail::to_text(max_generated_vertices) + " vertices (" +
                               detail::to_text(vertices) + " asked)");
-  return detail::to_cloth_mesh<Scalar>(detail::disk_in_plane(double(radius), rings));
+  return detail::to_cloth_mesh<Scalar>(detail::disk_in_plane(r, rings, inner_rings, ring));
 }
 
 template <class Scalar>
