@@ -286,6 +286,10 @@ void bind_mesh(Bindings& bind, Settings& s) {
   bind.value("shape", m.shape, "grid (nx, ny, spacing) | disk (--radius) | rectangle-with-hole (--size, --hole-*)",
              mesh);
   bind.value("radius", m.radius, "disk: radius in m, > 0", mesh);
+  bind.value("ring-radius", m.ring_radius,
+             "disk: a ring of vertices exactly on this circle (m; a support's edge, where the cloth bends), 0 "
+             "(none) or in [edge-length, radius - edge-length]",
+             mesh);
   bind_numbers(bind, "size", m.size, "W H: rectangle-with-hole: width (x) and height (z) in m", mesh);
   bind.value("hole-radius", m.hole_radius, "rectangle-with-hole: the hole's radius in m", mesh);
   bind_numbers(bind, "hole-centre", m.hole_centre, "X Z: rectangle-with-hole: the hole's centre in m from the corner",

@@ -61,7 +61,7 @@ drape::ClothMesh<double> generated_mesh(const MeshSource& m, const KeyName& key)
          "an edge length that gives the " + m.shape + " at most 100000 vertices (>= " +
              number(std::sqrt(area * 2 / (std::sqrt(3.0) * max_scene_vertices))) + " m)");
   try {
-    if (m.shape == "disk") return drape::disk_mesh<double>(m.radius, m.edge_length);
+    if (m.shape == "disk") return drape::disk_mesh<double>(m.radius, m.edge_length, m.ring_radius);
     return drape::rectangle_with_hole_mesh<double>(m.size[0], m.size[1], {m.hole_centre[0], m.hole_centre[1]},
                                                    m.hole_radius, m.edge_length);
   } catch (const InvalidParameter& e) {
@@ -141,6 +141,13 @@ void apply_mesh_source(const MeshSource& m, drape::ClothSpecd& spec, const KeyNa
     fail(key("shape"), "'" + m.shape + "'", "grid | disk | rectangle-with-hole");
   if (!m.file.empty() && m.shape != "grid")
     fail(key("shape"), "'" + m.shape + "' with a mesh file", "grid (the default) when a mesh file gives the mesh");
+  if (m.ring_radius != 0 && (m.shape != "disk" || !m.file.empty() || !m.pattern.empty()))
+    fail(key("ring-radius"), number(m.ring_radius), "0 unless the cloth is the disk (shape = disk)");
+  if (m.shape == "disk" && m.ring_radius != 0 &&
+      !(m.ring_radius >= m.edge_length && m.ring_radius <= m.radius - m.edge_length))
+    fail(key("ring-radius"), number(m.ring_radius),
+         "0 (no ring) or in [edge-length, radius - edge-length] = [" + number(m.edge_length) + ", " +
+             number(m.radius - m.edge_length) + "] m");
   if (!(std::isfinite(m.scale) && m.scale > 0)) fail(key("scale"), number(m.scale), "finite and > 0");
   if (!(std::isfinite(m.density) && m.density >= 0)) fail(key("density"), number(m.density), "finite and >= 0 kg/m^2");
   if (!(std::isfinite(m.bending) && m.bending >= 0)) fail(key("bending"), number(m.bending), "finite and >= 0 N m");

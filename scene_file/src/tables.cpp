@@ -345,7 +345,8 @@ ExtraCloth cloth_from_table(const toml::table& t, const std::string& key, const 
   static const std::vector<std::string> allowed = {
       "nx",        "ny",          "spacing",     "mass",        "pins",        "position",     "rotation",
       "structural-ks", "structural-kd", "shear-ks", "shear-kd", "bend-ks",  "bend-kd",      "mesh",
-      "shape",     "radius",      "size",        "hole-radius", "hole-centre", "edge-length",  "scale",
+      "shape",     "radius",      "ring-radius", "size",        "hole-radius", "hole-centre", "edge-length",
+      "scale",
       "rest-from-uv", "density",  "pin-groups",  "pin-box",     "bending",     "bending-kd"};
   check_keys(t, key, file, allowed,
              "a cloth has the keys " + joined(allowed) + " (the rest it takes from the first cloth)");
@@ -378,10 +379,10 @@ ExtraCloth cloth_from_table(const toml::table& t, const std::string& key, const 
   if (const toml::node* n = t.get("shape")) m.shape = from_toml<std::string>(*n, key + ".shape", file);
   pair("size", m.size);
   pair("hole-centre", m.hole_centre);
-  const std::pair<const char*, double*> numbers[] = {{"radius", &m.radius},       {"hole-radius", &m.hole_radius},
-                                                     {"edge-length", &m.edge_length}, {"scale", &m.scale},
-                                                     {"density", &m.density},     {"bending", &m.bending},
-                                                     {"bending-kd", &m.bending_kd}};
+  const std::pair<const char*, double*> numbers[] = {
+      {"radius", &m.radius},   {"ring-radius", &m.ring_radius}, {"hole-radius", &m.hole_radius},
+      {"edge-length", &m.edge_length}, {"scale", &m.scale},     {"density", &m.density},
+      {"bending", &m.bending}, {"bending-kd", &m.bending_kd}};
   for (const auto& [name, value] : numbers)
     if (const toml::node* n = t.get(name)) *value = from_toml<double>(*n, key + "." + name, file);
   if (const toml::node* n = t.get("rest-from-uv")) m.rest_from_uv = from_toml<bool>(*n, key + ".rest-from-uv", file);

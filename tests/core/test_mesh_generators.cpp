@@ -372,7 +372,8 @@ TEMPLATE_TEST_CASE("the generators reject bad arguments by name", "[mesh][valida
   REQUIRE_NOTHROW(drape::disk_mesh(S(1), S(1)));
   REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(0.1), -S(0.5)), Contains("'ring_radius'") && Contains("0 (no ring)"));
   REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(0.1), nan), Contains("'ring_radius'"));
-  REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(0.1), S(0.09)), Contains("'ring_radius'") && Contains("radius - edge_length"));
+  REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(0.1), S(0.09)),
+                      Contains("'ring_radius'") && Contains("radius - edge_length"));
   REQUIRE_THROWS_WITH(drape::disk_mesh(S(1), S(0.1), S(0.91)), Contains("'ring_radius'"));
   REQUIRE_NOTHROW(drape::disk_mesh(S(1), S(0.1), S(0.1)));
   REQUIRE_NOTHROW(drape::disk_mesh(S(1), S(0.1), S(0.9)));

@@ -472,6 +472,14 @@ TEST_CASE("mesh keys: generated and OBJ meshes, density, pins by group and box, 
   REQUIRE(bending_term(s));
   CHECK(bending_term(s)->name() == "dihedral bending");
 
+  // The disk with a ring of vertices on a circle inside it, pinned by the ring's group.
+  s = read_text(dir,
+                "shape = \"disk\"\nradius = 0.3\nring-radius = 0.2\nedge-length = 0.05\npin-groups = [\"ring\"]\n");
+  REQUIRE(s.cloth.mesh);
+  CHECK(s.cloth.mesh->positions == drape::disk_mesh(0.3, 0.05, 0.2).positions);
+  REQUIRE(s.cloth.pinned_nodes);
+  CHECK(s.cloth.pinned_nodes->size() == s.cloth.mesh->groups.at("ring").size());
+
   // A rectangle with a hole pinned by a box around its left edge (x = 0 at the start).
   s = read_text(dir, "shape = \"rectangle-with-hole\"\nsize = [1.0, 0.6]\nhole-radius = 0.1\n"
                      "hole-centre = [0.5, 0.3]\nedge-length = 0.05\npin-box = [-0.01, -0.01, -0.01, 0.01, 0.01, 0.61]\n");
@@ -501,6 +509,12 @@ TEST_CASE("mesh keys: generated and OBJ meshes, density, pins by group and box, 
   CHECK_THAT(error_of(dir, "mesh = \"square.obj\"\nscale = -1.0\n"), Contains("scale") && Contains("> 0"));
   CHECK_THAT(error_of(dir, "shape = \"disk\"\ndensity = -0.2\n"), Contains("density") && Contains(">= 0"));
   CHECK_THAT(error_of(dir, "shape = \"disk\"\nbending = -1.0\n"), Contains("bending") && Contains(">= 0"));
+  CHECK_THAT(error_of(dir, "shape = \"disk\"\nradius = 0.3\nedge-length = 0.05\nring-radius = 0.29\n"),
+             Contains("ring-radius") && Contains("[0.05, 0.25]"));
+  CHECK_THAT(error_of(dir, "shape = \"disk\"\nradius = 0.3\nedge-length = 0.05\nring-radius = -0.1\n"),
+             Contains("ring-radius") && Contains("0 (no ring)"));
+  CHECK_THAT(error_of(dir, "shape = \"rectangle-with-hole\"\nring-radius = 0.1\n"),
+             Contains("ring-radius") && Contains("0 unless the cloth is the disk"));
   fs::remove_all(dir);
 }
 

@@ -19,6 +19,7 @@ struct MeshSource {
   /// --shape: grid (nx, ny, spacing) | disk | rectangle-with-hole, when no --mesh is given.
   std::string shape = "grid";
   double radius = 0.5;                          ///< --radius: the disk's, m
+  double ring_radius = 0;                       ///< --ring-radius: the disk's ring of vertices, m (0: none)
   std::array<double, 2> size{1.0, 1.0};         ///< --size W H: the rectangle's, m (along x, z)
   double hole_radius = 0.1;                     ///< --hole-radius: m
   std::array<double, 2> hole_centre{0.5, 0.5};  ///< --hole-centre X Z: in the rectangle, m from its corner
