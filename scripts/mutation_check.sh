@@ -54,6 +54,5 @@ PY
     survivors=$((survivors + 1))
   fi
 done < "$scratch/tests/mutations.tsv"   # the committed list, like the code
-cmake --build "$scratch/build" >/dev/null 2>&1 || true
 echo "$((total - survivors)) of $total mutations caught"
 [ "$survivors" -eq 0 ]
